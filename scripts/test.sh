@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# The project's test command (README "Testing"): installs on Debian what the tests need
+# (CGAL + Eigen for the reference cross-check, OpenMesh for the C++ tests, a C/C++ compiler),
+# then runs every test. Set CI=true to make missing references fail instead of skip.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(g++ pkg-config libcgal-dev libeigen3-dev libopenmesh-dev)
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+    sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    echo "installing: ${missing[*]}"
+    $sudo apt-get update -qq
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+if [ ! -d ../shared/meshes ]; then
+    echo "error: ../shared/meshes not found (the shared mesh collection must sit beside the repository)" >&2
+    exit 1
+fi
+
+cargo test --release --locked "$@"

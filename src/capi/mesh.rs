@@ -1,0 +1,128 @@
+//! Mesh validation and topology queries.
+
+use super::{borrow_slice_mut, guard, mesh_from_raw};
+use crate::error::{Error, UvfStatus};
+
+/// Counts and topological invariants of a mesh.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UvfMeshInfo {
+    /// Vertices in the input arrays (including unreferenced ones).
+    pub vertices: usize,
+    /// Vertices used by at least one triangle.
+    pub referenced_vertices: usize,
+    /// Triangles.
+    pub triangles: usize,
+    /// Undirected edges.
+    pub edges: usize,
+    /// Connected components.
+    pub components: usize,
+    /// Boundary loops.
+    pub boundary_loops: usize,
+    /// Total number of vertices over all boundary loops (size of `uvf_boundary_loops` output).
+    pub boundary_vertices: usize,
+    /// Euler characteristic V − E + F.
+    pub euler_characteristic: i64,
+    /// Total genus.
+    pub genus: i64,
+}
+
+/// Validates a mesh and reports its topology.
+///
+/// `positions`: 3 doubles per vertex; `triangles`: 3 vertex indices per triangle,
+/// counter-clockwise. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointer, overflowing
+/// count) or `UVF_INVALID_MESH` (bad index, non-finite coordinate, degenerate, duplicate or
+/// non-manifold triangle, inconsistent orientation, no triangles).
+///
+/// # Safety
+/// The arrays must hold the stated number of elements; `info_out` must be writable.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_info(
+    positions: *const f64,
+    vertex_count: usize,
+    triangles: *const u32,
+    triangle_count: usize,
+    info_out: *mut UvfMeshInfo,
+) -> UvfStatus {
+    guard(|| {
+        let out = borrow_slice_mut(info_out, 1, "info_out")?;
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let t = mesh.topology();
+        out[0] = UvfMeshInfo {
+            vertices: t.vertices,
+            referenced_vertices: t.referenced_vertices,
+            triangles: t.triangles,
+            edges: t.edges,
+            components: t.components,
+            boundary_loops: t.boundary_loops,
+            boundary_vertices: mesh.boundary_loops().iter().map(Vec::len).sum(),
+            euler_characteristic: t.euler_characteristic,
+            genus: t.genus,
+        };
+        Ok(())
+    })
+}
+
+/// Ordered boundary loops (counter-clockwise, surface on the left), concatenated.
+///
+/// `vertices_out` receives `info.boundary_vertices` indices; `loop_offsets_out` receives
+/// `info.boundary_loops + 1` offsets (loop k is `vertices_out[offsets[k] .. offsets[k+1]]`).
+/// The capacities say how many elements the arrays hold; too small gives
+/// `UVF_INVALID_ARGUMENT` and writes nothing. Other statuses as `uvf_mesh_info`.
+///
+/// # Safety
+/// The arrays must hold the stated number of elements.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_boundary_loops(
+    positions: *const f64,
+    vertex_count: usize,
+    triangles: *const u32,
+    triangle_count: usize,
+    vertices_out: *mut u32,
+    vertices_capacity: usize,
+    loop_offsets_out: *mut u32,
+    offsets_capacity: usize,
+) -> UvfStatus {
+    guard(|| {
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let loops = mesh.boundary_loops();
+        let total: usize = loops.iter().map(Vec::len).sum();
+        if vertices_capacity < total || offsets_capacity < loops.len() + 1 {
+            return Err(Error::InvalidArgument(format!(
+                "output too small: {total} boundary vertices and {} offsets needed, capacities are {vertices_capacity} and {offsets_capacity}",
+                loops.len() + 1
+            )));
+        }
+        let verts = borrow_slice_mut(vertices_out, total, "vertices_out")?;
+        let offsets = borrow_slice_mut(loop_offsets_out, loops.len() + 1, "loop_offsets_out")?;
+        let mut at = 0;
+        for (k, lp) in loops.iter().enumerate() {
+            offsets[k] = at as u32;
+            verts[at..at + lp.len()].copy_from_slice(lp);
+            at += lp.len();
+        }
+        offsets[loops.len()] = at as u32;
+        Ok(())
+    })
+}
+
+/// Connected component id (0-based) of every triangle; `component_out` holds
+/// `triangle_count` entries. Statuses as `uvf_mesh_info`.
+///
+/// # Safety
+/// The arrays must hold the stated number of elements.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_triangle_components(
+    positions: *const f64,
+    vertex_count: usize,
+    triangles: *const u32,
+    triangle_count: usize,
+    component_out: *mut u32,
+) -> UvfStatus {
+    guard(|| {
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let out = borrow_slice_mut(component_out, triangle_count, "component_out")?;
+        out.copy_from_slice(mesh.triangle_components());
+        Ok(())
+    })
+}

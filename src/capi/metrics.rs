@@ -1,0 +1,114 @@
+//! C ABI for the distortion measures of [`crate::metrics`] (course notes ch. 4).
+
+use super::{borrow_slice, checked_count, guard};
+use crate::error::{Error, UvfStatus};
+use crate::metrics::{distortion, Metrics};
+
+/// Distortion summary of a UV map (see `uvf_metrics`). Distortion fields are NaN when no
+/// triangle is measurable.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct UvfMetrics {
+    /// Number of triangles measured.
+    pub triangles: usize,
+    /// Triangles whose UV orientation is opposite to the layout's majority orientation.
+    pub flipped: usize,
+    /// Triangles with (numerically) zero UV area; they are left out of every distortion figure.
+    pub degenerate_uv: usize,
+    /// Proper crossings between UV boundary edges (0 for a layout without overlaps of its border).
+    pub boundary_intersections: usize,
+    /// Sander et al. 2001 L2 stretch after a global scale; 1 is optimal.
+    pub stretch_l2: f64,
+    /// Sander et al. 2001 L∞ stretch (largest singular value) after the same scale.
+    pub stretch_linf: f64,
+    /// Area-weighted mean of σmax/σmin; 1 is conformal.
+    pub conformal_mean: f64,
+    /// Largest σmax/σmin.
+    pub conformal_max: f64,
+    /// Mean |UV corner angle − surface corner angle|, radians.
+    pub angle_mean: f64,
+    /// Largest corner angle error, radians.
+    pub angle_max: f64,
+    /// Area-weighted mean |ln(s·A_uv / A_3d)| with one global scale s; 0 is authalic.
+    pub area_mean: f64,
+    /// Largest |ln(s·A_uv / A_3d)|.
+    pub area_max: f64,
+}
+
+impl From<&Metrics> for UvfMetrics {
+    fn from(m: &Metrics) -> Self {
+        UvfMetrics {
+            triangles: m.triangles,
+            flipped: m.flipped,
+            degenerate_uv: m.degenerate_uv,
+            boundary_intersections: m.boundary_intersections,
+            stretch_l2: m.stretch_l2,
+            stretch_linf: m.stretch_linf,
+            conformal_mean: m.conformal_mean,
+            conformal_max: m.conformal_max,
+            angle_mean: m.angle_mean,
+            angle_max: m.angle_max,
+            area_mean: m.area_mean,
+            area_max: m.area_max,
+        }
+    }
+}
+
+fn as_points<const N: usize>(flat: &[f64]) -> Vec<[f64; N]> {
+    flat.chunks_exact(N).map(|c| std::array::from_fn(|i| c[i])).collect()
+}
+
+fn as_triangles(flat: &[u32]) -> Vec<[u32; 3]> {
+    flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+}
+
+/// Distortion of a UV map (Hormann, Lévy, Sheffer 2008 course notes §3.3 and ch. 4; Sander et
+/// al. 2001 stretch): singular values of each triangle's Jacobian summarised as stretch,
+/// conformal, angle and area distortion, plus flipped triangles and UV-boundary crossings.
+///
+/// `positions`: 3 doubles per vertex; `triangles`: 3 indices per triangle; `uv`: 2 doubles per
+/// UV coordinate (`uv_count` of them). `uv_triangles`: 3 indices into `uv` per triangle, or
+/// NULL when UVs are per vertex (then `uv_count` must equal `vertex_count` and `triangles`
+/// indexes both). Only UVs referenced by a triangle are read, so the NaN UVs that methods give
+/// unreferenced vertices are fine. The mesh is not required to be manifold.
+///
+/// Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL or mis-sized array, index out of range,
+/// non-finite coordinate, no triangles) or `UVF_INTERNAL_ERROR`. `out` is untouched on failure.
+///
+/// # Safety
+/// The arrays must hold the stated number of elements; `out` must point to a `UvfMetrics`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_metrics(
+    positions: *const f64,
+    vertex_count: usize,
+    triangles: *const u32,
+    triangle_count: usize,
+    uv: *const f64,
+    uv_count: usize,
+    uv_triangles: *const u32,
+    out: *mut UvfMetrics,
+) -> UvfStatus {
+    guard(|| {
+        if out.is_null() {
+            return Err(Error::InvalidArgument("out (UvfMetrics*) is NULL".into()));
+        }
+        let p = borrow_slice(positions, checked_count(vertex_count, 3, "vertex")?, "positions")?;
+        let t = borrow_slice(triangles, checked_count(triangle_count, 3, "triangle")?, "triangles")?;
+        let q = borrow_slice(uv, checked_count(uv_count, 2, "uv")?, "uv")?;
+        let uv_t = if uv_triangles.is_null() {
+            if uv_count != vertex_count {
+                return Err(Error::InvalidArgument(format!(
+                    "uv_triangles is NULL (per-vertex UVs) but uv_count {uv_count} differs from vertex_count {vertex_count}"
+                )));
+            }
+            t
+        } else {
+            borrow_slice(uv_triangles, checked_count(triangle_count, 3, "triangle")?, "uv_triangles")?
+        };
+        let tris = as_triangles(t);
+        let m = distortion(&as_points::<3>(p), &tris, &as_points::<2>(q), &as_triangles(uv_t))?;
+        // SAFETY: checked non-null above; the caller promises it points to a UvfMetrics.
+        unsafe { out.write(UvfMetrics::from(&m)) };
+        Ok(())
+    })
+}

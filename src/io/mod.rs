@@ -1,0 +1,2 @@
+pub mod obj;
+pub mod svg;

@@ -1,0 +1,49 @@
+//! # uvflat — mesh parameterization with a C ABI
+//!
+//! Computes UV maps of triangle meshes: the methods of Desbrun–Meyer–Alliez 2002
+//! (*Intrinsic Parameterizations*), of the Hormann–Lévy–Sheffer 2008 course
+//! (*Mesh Parameterization: Theory and Practice*) and, in time, Ray et al. 2006 (*Periodic
+//! Global Parameterization*). The crate builds as a Rust library, a C shared/static library
+//! (`include/uvflat.h`) and a command-line tool.
+//!
+//! Modules:
+//! - [`error`]: the error type, one variant per failure class, and the C status codes.
+//! - [`mesh`]: [`TriMesh`], the validated mesh (connectivity, boundary loops, topology).
+//! - [`geometry`]: per-triangle areas, angles and cotangents.
+//! - [`linalg`]: sparse assembly and factorizations (faer Cholesky / LU).
+//! - [`boundary`]: boundary shapes and distributions for fixed-boundary maps.
+//! - [`methods`]: the parameterization methods.
+//! - [`metrics`]: distortion measures.
+//! - [`io`]: OBJ input/output and SVG pictures of UV layouts.
+//! - [`progress`]: progress callbacks and cancellation.
+//! - `capi`: the C ABI (`uvf_*` functions).
+//!
+//! ```
+//! use uvflat::{TriMesh, natural_conformal_map};
+//! // Two triangles forming a folded square.
+//! let positions = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.3, 0.0, 1.0, 0.0];
+//! let triangles = [0, 1, 2, 0, 2, 3];
+//! let mesh = TriMesh::new(&positions, &triangles).unwrap();
+//! let uv = natural_conformal_map(&mesh, None).unwrap();
+//! assert_eq!(uv.len(), 4);
+//! ```
+
+pub mod boundary;
+pub mod capi;
+pub mod error;
+pub mod geometry;
+pub mod io;
+pub mod linalg;
+pub mod mesh;
+pub mod methods;
+pub mod metrics;
+pub mod progress;
+
+pub use boundary::{BoundaryShape, Distribution};
+pub use error::{Error, Result};
+pub use mesh::TriMesh;
+pub use methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions, Weights};
+pub use methods::conformal::natural_conformal_map;
+
+/// Crate version, as reported by `uvf_version()`.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -1,0 +1,6 @@
+//! Parameterization methods, one file per family (see each file's header for the paper and
+//! equations it implements).
+
+pub mod barycentric;
+pub mod conformal;
+pub mod floater;

@@ -1,0 +1,15 @@
+/* Compiled as C99 with -Wall -Wextra -pedantic -Werror by tests/c_abi.rs: the generated header
+ * must be valid, warning-free C, and the public structs must keep their documented layout. */
+#include "uvflat.h"
+
+#define UVF_STATIC_ASSERT(cond, name) typedef char uvf_static_assert_##name[(cond) ? 1 : -1]
+
+UVF_STATIC_ASSERT(sizeof(UvfStatus) == sizeof(int), status_is_int);
+UVF_STATIC_ASSERT(sizeof(UvfMeshInfo) == 7 * sizeof(size_t) + 2 * sizeof(int64_t), mesh_info_size);
+UVF_STATIC_ASSERT(sizeof(UvfMetrics) == 4 * sizeof(size_t) + 8 * sizeof(double), metrics_size);
+UVF_STATIC_ASSERT(offsetof(UvfFixedBoundaryOptions, struct_size) == 0, fixed_size_first);
+UVF_STATIC_ASSERT(offsetof(UvfNaturalConformalOptions, struct_size) == 0, conformal_size_first);
+UVF_STATIC_ASSERT(UVF_OK == 0, ok_is_zero);
+
+int uvf_header_check_c(void);
+int uvf_header_check_c(void) { return UVF_ABI_VERSION; }

@@ -1,0 +1,55 @@
+//! C/C++ compilation for tests and benches (which get no build-script environment): the `cc`
+//! crate's choice of compiler and flags for this machine, the cargo target directory, and the
+//! uvflat libraries cargo built for the running test.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+use std::process::Command;
+
+/// The Rust target triple of this machine.
+pub fn host_triple() -> String {
+    let arch = std::env::consts::ARCH;
+    match std::env::consts::OS {
+        "macos" => format!("{arch}-apple-darwin"),
+        "windows" => format!("{arch}-pc-windows-msvc"),
+        os => format!("{arch}-unknown-{os}-gnu"),
+    }
+}
+
+/// The cargo target directory: the running test or bench lives in `<target>/<profile>/deps/`.
+pub fn target_dir() -> PathBuf {
+    std::env::current_exe()
+        .ok()
+        .and_then(|exe| Some(exe.parent()?.parent()?.parent()?.to_path_buf()))
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/target")))
+}
+
+/// The directory holding the `libuvflat.so`/`.a` built together with the running test.
+pub fn library_dir() -> PathBuf {
+    std::env::current_exe().ok().and_then(|exe| Some(exe.parent()?.to_path_buf())).unwrap_or_else(target_dir)
+}
+
+/// A compiler command (C or C++) for the language standard `std`, optimised, with `cc`'s
+/// default flags for this machine; output and inputs are for the caller to add.
+pub fn compiler(cpp: bool, std: &str) -> Command {
+    let triple = host_triple();
+    let mut build = cc::Build::new();
+    build.cpp(cpp).std(std).opt_level(2).debug(false).target(&triple).host(&triple).cargo_metadata(false);
+    build.get_compiler().to_command()
+}
+
+/// Runs `command`, returning its stdout, or its stderr and stdout on failure.
+pub fn run(mut command: Command) -> Result<String, String> {
+    let output = command.output().map_err(|e| format!("cannot run {command:?}: {e}"))?;
+    let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+    if output.status.success() {
+        Ok(text(&output.stdout))
+    } else {
+        Err(format!(
+            "{command:?} failed ({}):\n{}\n{}",
+            output.status,
+            text(&output.stderr),
+            text(&output.stdout)
+        ))
+    }
+}
