@@ -1,1 +1,360 @@
-fn main(){}
+//! `uvflat`: the command-line tool. Unwraps an OBJ into an OBJ with UVs (and optionally an SVG
+//! picture of the layout), measures the distortion of an OBJ's UVs, lists the methods, and
+//! reports a mesh's topology. Every failure prints the library's message and exits with
+//! status 1 (2 for a command-line usage error); nothing panics on bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use uvflat::io::obj::{read_obj, write_obj_with_uv, ObjMesh};
+use uvflat::io::svg::write_uv_svg;
+use uvflat::methods::conformal::Pin;
+use uvflat::metrics::{distortion, Metrics};
+use uvflat::{
+    fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, Error, FixedBoundaryOptions, TriMesh,
+    Weights,
+};
+
+#[derive(Parser)]
+#[command(name = "uvflat", version, about = "Mesh parameterization (UV unwrapping)")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Computes UVs for IN.obj and writes OUT.obj (input vertices and faces, plus `vt` lines).
+    Unwrap(UnwrapArgs),
+    /// Distortion of the UVs stored in an OBJ file (`vt` lines).
+    Metrics {
+        input: PathBuf,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Lists the parameterization methods, one per line.
+    Methods,
+    /// Prints vertices, faces, components, boundary loops and genus of a mesh.
+    Info {
+        input: PathBuf,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(clap::Args)]
+struct UnwrapArgs {
+    /// Input mesh (OBJ; polygons are fan-triangulated).
+    input: PathBuf,
+    /// Output OBJ with one UV per vertex.
+    #[arg(short = 'o', long = "output")]
+    output: PathBuf,
+    /// Parameterization method (see `uvflat methods`).
+    #[arg(long, value_enum, default_value_t = MethodName::NaturalConformal)]
+    method: MethodName,
+    /// Boundary of fixed-boundary methods: `circle`, `square`, or a file of lines
+    /// `vertex_index u v` (0-based) fixing those boundary vertices.
+    #[arg(long)]
+    boundary: Option<String>,
+    /// Spacing of boundary vertices along the circle or square.
+    #[arg(long, value_enum)]
+    distribution: Option<DistributionName>,
+    /// λ of the intrinsic method (weight of the conformal part); default 1.
+    #[arg(long)]
+    lambda: Option<f64>,
+    /// μ of the intrinsic method (weight of the authalic part); default 0.
+    #[arg(long)]
+    mu: Option<f64>,
+    /// Vertex to pin (natural-conformal; give exactly two). Default: the two boundary
+    /// vertices farthest apart.
+    #[arg(long = "pin")]
+    pins: Vec<u32>,
+    /// Also draw the UV layout into this SVG file.
+    #[arg(long)]
+    svg: Option<PathBuf>,
+    /// Print one JSON object (method, seconds, metrics) instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum MethodName {
+    Tutte,
+    Floater,
+    Authalic,
+    Conformal,
+    MeanValue,
+    Intrinsic,
+    NaturalConformal,
+}
+
+/// Each method's CLI name and one-line description, as `uvflat methods` prints them.
+const METHODS: [(MethodName, &str, &str); 7] = [
+    (MethodName::Tutte, "tutte", "fixed boundary, uniform weights (Tutte 1963); never flips with a convex boundary"),
+    (MethodName::Floater, "floater", "fixed boundary, Floater's shape-preserving weights (1997); never flips"),
+    (MethodName::Authalic, "authalic", "fixed boundary, discrete authalic = Wachspress (Desbrun et al. 2002 eq. 6)"),
+    (MethodName::Conformal, "conformal", "fixed boundary, discrete conformal = harmonic (Desbrun et al. 2002 eq. 4)"),
+    (MethodName::MeanValue, "mean-value", "fixed boundary, mean value weights (Floater 2003); never flips"),
+    (MethodName::Intrinsic, "intrinsic", "fixed boundary, lambda*DCP + mu*DAP (Desbrun et al. 2002 §3.4)"),
+    (
+        MethodName::NaturalConformal,
+        "natural-conformal",
+        "free boundary, natural conformal map = LSCM (Desbrun et al. 2002 eq. 7); the default",
+    ),
+];
+
+#[derive(Clone, Copy, ValueEnum)]
+enum DistributionName {
+    Uniform,
+    Chord,
+    Centripetal,
+}
+
+/// A failure to report: the message, and whether it was a usage error.
+struct Failure {
+    message: String,
+    usage: bool,
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Failure { message: e.to_string(), usage: false }
+    }
+}
+
+fn usage(message: impl Into<String>) -> Failure {
+    Failure { message: message.into(), usage: true }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let outcome = match cli.command {
+        Command::Unwrap(args) => unwrap(&args),
+        Command::Metrics { input, json } => print_metrics(&input, json),
+        Command::Methods => {
+            list_methods();
+            Ok(())
+        }
+        Command::Info { input, json } => info(&input, json),
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => {
+            eprintln!("uvflat: {}", f.message);
+            ExitCode::from(if f.usage { 2 } else { 1 })
+        }
+    }
+}
+
+fn list_methods() {
+    for (_, name, description) in METHODS {
+        println!("{name:<18} {description}");
+    }
+}
+
+fn method_label(method: MethodName) -> &'static str {
+    METHODS.iter().find(|(m, _, _)| *m == method).map_or("?", |(_, name, _)| name)
+}
+
+fn load_mesh(path: &Path) -> Result<(ObjMesh, TriMesh), Failure> {
+    let obj = read_obj(path)?;
+    let mesh = TriMesh::new(&obj.positions, &obj.triangles)
+        .map_err(|e| Failure { message: format!("{}: {e}", path.display()), usage: false })?;
+    Ok((obj, mesh))
+}
+
+fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
+    check_option_combination(args)?;
+    let obj = read_obj(&args.input)?;
+    let start = Instant::now();
+    let mesh = TriMesh::new(&obj.positions, &obj.triangles)
+        .map_err(|e| Failure { message: format!("{}: {e}", args.input.display()), usage: false })?;
+    let uv = run_method(&mesh, args)?;
+    let seconds = start.elapsed().as_secs_f64();
+    write_obj_with_uv(&args.output, &obj.positions, &obj.triangles, &uv)?;
+    if let Some(svg) = &args.svg {
+        write_uv_svg(svg, &uv, mesh.triangles())?;
+    }
+    let metrics = distortion(mesh.points(), mesh.triangles(), &uv, mesh.triangles())?;
+    if args.json {
+        let mut object = serde_json::json!({
+            "method": method_label(args.method),
+            "seconds": seconds,
+            "vertices": mesh.vertex_count(),
+            "output": args.output.display().to_string(),
+        });
+        merge(&mut object, metrics.to_json());
+        println!("{object}");
+    } else {
+        println!(
+            "{}: {} vertices, {} triangles, {:.3} s -> {}",
+            method_label(args.method),
+            mesh.vertex_count(),
+            mesh.triangle_count(),
+            seconds,
+            args.output.display()
+        );
+        print_metrics_text(&metrics);
+    }
+    Ok(())
+}
+
+/// Rejects options that do not apply to the chosen method, so nothing is silently ignored.
+fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
+    let free = args.method == MethodName::NaturalConformal;
+    if free && (args.boundary.is_some() || args.distribution.is_some()) {
+        return Err(usage("--boundary and --distribution apply to fixed-boundary methods, not natural-conformal"));
+    }
+    if !free && !args.pins.is_empty() {
+        return Err(usage("--pin applies to --method natural-conformal only"));
+    }
+    if free && !args.pins.is_empty() && args.pins.len() != 2 {
+        return Err(usage(format!("give --pin exactly twice (got {})", args.pins.len())));
+    }
+    if args.method != MethodName::Intrinsic && (args.lambda.is_some() || args.mu.is_some()) {
+        return Err(usage("--lambda and --mu apply to --method intrinsic only"));
+    }
+    Ok(())
+}
+
+fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<Vec<[f64; 2]>, Failure> {
+    let weights = match args.method {
+        MethodName::NaturalConformal => return Ok(natural_conformal_map(mesh, cli_pins(mesh, &args.pins)?)?),
+        MethodName::Tutte => Weights::Uniform,
+        MethodName::Floater => Weights::Floater,
+        MethodName::Authalic => Weights::Authalic,
+        MethodName::Conformal => Weights::Conformal,
+        MethodName::MeanValue => Weights::MeanValue,
+        MethodName::Intrinsic => Weights::Intrinsic { lambda: args.lambda.unwrap_or(1.0), mu: args.mu.unwrap_or(0.0) },
+    };
+    let shape = match args.boundary.as_deref() {
+        None | Some("circle") => BoundaryShape::Circle,
+        Some("square") => BoundaryShape::Square,
+        Some(file) => BoundaryShape::Given(read_boundary_file(Path::new(file))?),
+    };
+    let distribution = match args.distribution {
+        None | Some(DistributionName::Chord) => Distribution::ChordLength,
+        Some(DistributionName::Uniform) => Distribution::Uniform,
+        Some(DistributionName::Centripetal) => Distribution::Centripetal,
+    };
+    Ok(fixed_boundary_map(mesh, &FixedBoundaryOptions { weights, shape, distribution })?)
+}
+
+/// The two `--pin` vertices placed at (0, 0) and (d, 0), d their 3D distance (as the automatic
+/// pins are), or `None` for the automatic choice. Index checks are the library's.
+fn cli_pins(mesh: &TriMesh, pins: &[u32]) -> Result<Option<[Pin; 2]>, Failure> {
+    let [a, b] = match pins {
+        [] => return Ok(None),
+        [a, b] => [*a, *b],
+        _ => return Err(usage("give --pin exactly twice")),
+    };
+    let point = |v: u32| mesh.points().get(v as usize).copied().unwrap_or([f64::NAN; 3]);
+    let (p, q) = (point(a), point(b));
+    let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
+    let d = if d.is_finite() && d > 0.0 { d } else { 1.0 };
+    Ok(Some([(a, [0.0, 0.0]), (b, [d, 0.0])]))
+}
+
+/// Reads `vertex_index u v` lines (0-based; blank lines and `#` comments allowed).
+fn read_boundary_file(path: &Path) -> Result<Vec<(u32, [f64; 2])>, Failure> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Failure { message: format!("cannot read boundary file {}: {e}", path.display()), usage: false })?;
+    let mut given = Vec::new();
+    for (number, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let bad = || Failure {
+            message: format!("{}:{}: expected `vertex_index u v`, found `{line}`", path.display(), number + 1),
+            usage: false,
+        };
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        let [v, u, w] = fields[..] else { return Err(bad()) };
+        let vertex = v.parse::<u32>().map_err(|_| bad())?;
+        let (u, w) = (u.parse::<f64>().map_err(|_| bad())?, w.parse::<f64>().map_err(|_| bad())?);
+        given.push((vertex, [u, w]));
+    }
+    if given.is_empty() {
+        return Err(Failure { message: format!("boundary file {} fixes no vertex", path.display()), usage: false });
+    }
+    Ok(given)
+}
+
+fn print_metrics(path: &Path, json: bool) -> Result<(), Failure> {
+    let obj = read_obj(path)?;
+    if obj.uv.is_empty() {
+        return Err(Failure { message: format!("{} has no texture coordinates (`vt` lines)", path.display()), usage: false });
+    }
+    if obj.uv_triangles.len() != obj.triangles.len() {
+        return Err(Failure {
+            message: format!("{}: some faces have no texture coordinate indices (`f v/vt ...`)", path.display()),
+            usage: false,
+        });
+    }
+    let group3 = |flat: &[u32]| flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect::<Vec<_>>();
+    let positions: Vec<[f64; 3]> = obj.positions.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let uv: Vec<[f64; 2]> = obj.uv.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
+    let metrics = distortion(&positions, &group3(&obj.triangles), &uv, &group3(&obj.uv_triangles))?;
+    if json {
+        println!("{}", metrics.to_json());
+    } else {
+        print_metrics_text(&metrics);
+    }
+    Ok(())
+}
+
+fn print_metrics_text(m: &Metrics) {
+    println!("  triangles               {}", m.triangles);
+    println!("  flipped                 {}", m.flipped);
+    println!("  degenerate uv           {}", m.degenerate_uv);
+    println!("  boundary intersections  {}", m.boundary_intersections);
+    println!("  stretch L2 / Linf       {:.4} / {:.4}", m.stretch_l2, m.stretch_linf);
+    println!("  conformal mean / max    {:.4} / {:.4}", m.conformal_mean, m.conformal_max);
+    println!(
+        "  angle error mean / max  {:.3}° / {:.3}°",
+        m.angle_mean.to_degrees(),
+        m.angle_max.to_degrees()
+    );
+    println!("  area |log| mean / max   {:.4} / {:.4}", m.area_mean, m.area_max);
+}
+
+fn info(path: &Path, json: bool) -> Result<(), Failure> {
+    let (_, mesh) = load_mesh(path)?;
+    let t = mesh.topology();
+    if json {
+        println!(
+            "{}",
+            serde_json::json!({
+                "vertices": t.vertices,
+                "referenced_vertices": t.referenced_vertices,
+                "faces": t.triangles,
+                "edges": t.edges,
+                "components": t.components,
+                "boundary_loops": t.boundary_loops,
+                "euler_characteristic": t.euler_characteristic,
+                "genus": t.genus,
+            })
+        );
+    } else {
+        println!("vertices        {} ({} referenced)", t.vertices, t.referenced_vertices);
+        println!("faces           {}", t.triangles);
+        println!("edges           {}", t.edges);
+        println!("components      {}", t.components);
+        println!("boundary loops  {}", t.boundary_loops);
+        println!("euler           {}", t.euler_characteristic);
+        println!("genus           {}", t.genus);
+    }
+    Ok(())
+}
+
+/// Adds the fields of `extra` (a JSON object) to `object`.
+fn merge(object: &mut serde_json::Value, extra: serde_json::Value) {
+    if let (Some(o), serde_json::Value::Object(e)) = (object.as_object_mut(), extra) {
+        o.extend(e);
+    }
+}

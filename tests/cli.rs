@@ -1,0 +1,186 @@
+//! The `uvflat` command line as a user runs it: unwrap an OBJ into an OBJ with UVs and an SVG,
+//! measure it, list methods, report topology; bad meshes and bad options give a message and a
+//! non-zero exit, never a panic.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const SAMPLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/nefertiti.obj");
+const MESHES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+
+fn uvflat(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_uvflat")).args(args).output().expect("run uvflat")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("uvflat-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir.join(name)
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "uvflat failed: {}", stderr(o));
+    serde_json::from_str(stdout(o).trim()).unwrap_or_else(|e| panic!("not JSON ({e}): {}", stdout(o)))
+}
+
+fn count_lines(path: &Path, prefix: &str) -> usize {
+    std::fs::read_to_string(path).expect("read output").lines().filter(|l| l.starts_with(prefix)).count()
+}
+
+#[test]
+fn unwrap_writes_obj_with_one_uv_per_vertex_and_an_svg() {
+    let (out, svg) = (scratch("n.obj"), scratch("n.svg"));
+    let o = uvflat(&["unwrap", SAMPLE, "-o", out.to_str().unwrap(), "--svg", svg.to_str().unwrap(), "--json"]);
+    let report = json(&o);
+    assert_eq!(report["method"], "natural-conformal");
+    assert_eq!(report["flipped"], 0);
+    assert!(report["seconds"].as_f64().is_some_and(|s| s >= 0.0));
+    assert!(report["conformal_mean"].as_f64().is_some_and(|c| (1.0..1.2).contains(&c)), "{report}");
+    assert_eq!(count_lines(&out, "v "), 299);
+    assert_eq!(count_lines(&out, "vt "), 299);
+    assert_eq!(count_lines(&out, "f "), 562);
+    let text = std::fs::read_to_string(&out).unwrap();
+    let face = text.lines().find(|l| l.starts_with("f ")).unwrap();
+    assert!(face.split_whitespace().skip(1).all(|c| c.split_once('/').is_some_and(|(a, b)| a == b)), "{face}");
+    let picture = std::fs::read_to_string(&svg).expect("svg written");
+    assert!(picture.starts_with("<svg") || picture.starts_with("<?xml"), "not an SVG");
+
+    // `metrics` on the written file reproduces what `unwrap --json` reported.
+    let measured = json(&uvflat(&["metrics", out.to_str().unwrap(), "--json"]));
+    for key in ["flipped", "triangles", "boundary_intersections"] {
+        assert_eq!(measured[key], report[key], "{key}");
+    }
+    for key in ["stretch_l2", "conformal_mean", "angle_mean", "area_mean"] {
+        let (a, b) = (measured[key].as_f64().unwrap(), report[key].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-9 * b.abs().max(1.0), "{key}: {a} vs {b}");
+    }
+}
+
+#[test]
+fn every_listed_method_unwraps_the_sample() {
+    let o = uvflat(&["methods"]);
+    assert!(o.status.success());
+    let names: Vec<String> =
+        stdout(&o).lines().filter_map(|l| l.split_whitespace().next().map(str::to_string)).collect();
+    assert!(names.len() >= 7, "{names:?}");
+    for name in names {
+        let out = scratch(&format!("{name}.obj"));
+        let report = json(&uvflat(&["unwrap", SAMPLE, "-o", out.to_str().unwrap(), "--method", &name, "--json"]));
+        assert_eq!(report["method"], name.as_str());
+        assert_eq!(report["triangles"], 562, "{name}");
+        if ["tutte", "floater", "mean-value"].contains(&name.as_str()) {
+            assert_eq!(report["flipped"], 0, "{name} flipped a triangle with a convex boundary");
+        }
+    }
+}
+
+#[test]
+fn fixed_boundary_options_change_the_result() {
+    let square = json(&uvflat(&["unwrap", SAMPLE, "-o", scratch("sq.obj").to_str().unwrap(), "--method", "mean-value", "--boundary", "square", "--distribution", "uniform", "--json"]));
+    let circle = json(&uvflat(&["unwrap", SAMPLE, "-o", scratch("ci.obj").to_str().unwrap(), "--method", "mean-value", "--json"]));
+    assert_ne!(square["stretch_l2"], circle["stretch_l2"]);
+    let intrinsic = json(&uvflat(&["unwrap", SAMPLE, "-o", scratch("in.obj").to_str().unwrap(), "--method", "intrinsic", "--lambda", "0.5", "--mu", "0.5", "--json"]));
+    assert_eq!(intrinsic["method"], "intrinsic");
+}
+
+#[test]
+fn boundary_file_fixes_the_given_vertices() {
+    // Take the boundary of a square unwrap and feed it back as a FILE: same result.
+    let first = scratch("first.obj");
+    json(&uvflat(&["unwrap", SAMPLE, "-o", first.to_str().unwrap(), "--method", "conformal", "--boundary", "square", "--json"]));
+    let mesh = uvflat::io::obj::read_obj(&first).unwrap();
+    let tris: Vec<[u32; 3]> = mesh.triangles.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let mut edges = std::collections::HashMap::new();
+    for t in &tris {
+        for k in 0..3 {
+            let (a, b) = (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]));
+            *edges.entry((a, b)).or_insert(0) += 1;
+        }
+    }
+    let mut boundary: Vec<u32> = edges.iter().filter(|(_, &n)| n == 1).flat_map(|(&(a, b), _)| [a, b]).collect();
+    boundary.sort_unstable();
+    boundary.dedup();
+    let file = scratch("boundary.txt");
+    let lines: String = boundary
+        .iter()
+        .map(|&v| format!("{v} {} {}\n", mesh.uv[2 * v as usize], mesh.uv[2 * v as usize + 1]))
+        .collect();
+    std::fs::write(&file, format!("# vertex u v\n{lines}")).unwrap();
+    let second = scratch("second.obj");
+    json(&uvflat(&["unwrap", SAMPLE, "-o", second.to_str().unwrap(), "--method", "conformal", "--boundary", file.to_str().unwrap(), "--json"]));
+    let again = uvflat::io::obj::read_obj(&second).unwrap();
+    let worst = mesh.uv.iter().zip(&again.uv).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-12, "given boundary changed the map by {worst}");
+}
+
+#[test]
+fn pins_are_placed_where_documented() {
+    let out = scratch("pinned.obj");
+    json(&uvflat(&["unwrap", SAMPLE, "-o", out.to_str().unwrap(), "--pin", "3", "--pin", "17", "--json"]));
+    let mesh = uvflat::io::obj::read_obj(&out).unwrap();
+    assert_eq!([mesh.uv[6], mesh.uv[7]], [0.0, 0.0]);
+    assert_eq!(mesh.uv[35], 0.0);
+    assert!(mesh.uv[34] > 0.0);
+}
+
+#[test]
+fn info_reports_topology() {
+    let t = json(&uvflat(&["info", &format!("{MESHES}/holes_lion.obj"), "--json"]));
+    assert_eq!((t["vertices"].as_u64(), t["faces"].as_u64()), (Some(7529), Some(14859)));
+    assert_eq!((t["components"].as_u64(), t["boundary_loops"].as_u64(), t["genus"].as_u64()), (Some(1), Some(5), Some(0)));
+    let text = stdout(&uvflat(&["info", SAMPLE]));
+    assert!(text.contains("boundary loops  1") && text.contains("genus           0"), "{text}");
+}
+
+#[test]
+fn bad_meshes_print_the_library_message_and_exit_1() {
+    let cases = [
+        ("bad_nan_coordinate.obj", "non-finite"),
+        ("bad_duplicate_faces.obj", "same three vertices"),
+        ("bad_nonmanifold_edge.obj", "non-manifold"),
+        ("bad_nonmanifold_vertex.obj", "separate fans"),
+        ("bad_inconsistent_orientation.obj", "inconsistently oriented"),
+        ("bad_empty_no_faces.obj", "no triangles"),
+        ("closed_g0_cow.obj", "not a topological disk"),
+        ("holes_punctured_torus.obj", "genus 1"),
+    ];
+    for (file, expected) in cases {
+        let o = uvflat(&["unwrap", &format!("{MESHES}/{file}"), "-o", scratch("bad.obj").to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(1), "{file}: {}", stderr(&o));
+        assert!(stderr(&o).contains(expected), "{file}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("panicked"), "{file}");
+    }
+    let o = uvflat(&["unwrap", "/nonexistent/mesh.obj", "-o", scratch("x.obj").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("/nonexistent/mesh.obj"), "{}", stderr(&o));
+}
+
+#[test]
+fn options_that_do_not_apply_are_usage_errors() {
+    let out = scratch("u.obj");
+    let out = out.to_str().unwrap();
+    for args in [
+        vec!["unwrap", SAMPLE, "-o", out, "--boundary", "square"],
+        vec!["unwrap", SAMPLE, "-o", out, "--method", "tutte", "--pin", "1", "--pin", "2"],
+        vec!["unwrap", SAMPLE, "-o", out, "--pin", "1"],
+        vec!["unwrap", SAMPLE, "-o", out, "--method", "tutte", "--lambda", "2"],
+        vec!["unwrap", SAMPLE, "-o", out, "--method", "nonsense"],
+    ] {
+        let o = uvflat(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+    }
+    let o = uvflat(&["unwrap", SAMPLE, "-o", out, "--pin", "1", "--pin", "100000"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("100000"), "{}", stderr(&o));
+    let o = uvflat(&["metrics", SAMPLE]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("no texture coordinates"), "{}", stderr(&o));
+}
