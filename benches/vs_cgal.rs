@@ -152,7 +152,7 @@ fn main() {
 
     let mut meshes = cgal::disk_meshes(max_faces).unwrap_or_else(|e| panic!("cannot list {}: {e}", cgal::MESH_DIR));
     if manifest_faces(COMPRESSED).map_or(true, |faces| faces <= max_faces) {
-        match unpacked_mesh(&cgal::target_dir()).and_then(|path| {
+        match unpacked_mesh(&compiler::target_dir()).and_then(|path| {
             let faces = cgal::count_faces(&path).map_err(|e| e.to_string())?;
             Ok(DiskMesh { name: "disk_bimba_cut_loop2".into(), path, faces })
         }) {
