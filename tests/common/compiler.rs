@@ -40,16 +40,22 @@ pub fn compiler(cpp: bool, std: &str) -> Command {
 
 /// Runs `command`, returning its stdout, or its stderr and stdout on failure.
 pub fn run(mut command: Command) -> Result<String, String> {
-    let output = command.output().map_err(|e| format!("cannot run {command:?}: {e}"))?;
+    let shown = describe(&command);
+    let output = command.output().map_err(|e| format!("cannot run {shown}: {e}"))?;
     let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
     if output.status.success() {
         Ok(text(&output.stdout))
     } else {
         Err(format!(
-            "{command:?} failed ({}):\n{}\n{}",
+            "{shown} failed ({}):\n{}\n{}",
             output.status,
             text(&output.stderr),
             text(&output.stdout)
         ))
     }
+}
+
+/// The command line, without the environment `cc` attaches.
+pub fn describe(command: &Command) -> String {
+    std::iter::once(command.get_program()).chain(command.get_args()).map(|a| a.to_string_lossy()).collect::<Vec<_>>().join(" ")
 }

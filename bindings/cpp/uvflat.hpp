@@ -1,0 +1,253 @@
+// uvflat.hpp: header-only C++17 wrapper over the uvflat C API (include/uvflat.h).
+//
+// - Inputs: any contiguous range of doubles (3 per vertex) and uint32_t (3 per triangle),
+//   passed as pointer + count or as std::vector; outputs come back as std::vector.
+// - Failures throw uvflat::Error, which carries the UvfStatus and the library's message.
+// - Options are plain structs initialised from the library's defaults; progress callbacks are
+//   std::function<bool(double)> returning false to cancel (uvflat::Error with UVF_CANCELLED).
+//   An exception thrown by the callback cancels the computation and is rethrown.
+//
+//   #include <uvflat.hpp>
+//   std::vector<double> uv = uvflat::natural_conformal_map(positions, triangles);
+//   UvfMetrics m = uvflat::metrics(positions, triangles, uv);
+#ifndef UVFLAT_HPP
+#define UVFLAT_HPP
+
+#include "uvflat.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace uvflat {
+
+/// A failed uvflat call: the status code and the library's message.
+class Error : public std::runtime_error {
+public:
+    Error(UvfStatus status, const std::string &message) : std::runtime_error(message), status_(status) {}
+    UvfStatus status() const noexcept { return status_; }
+
+private:
+    UvfStatus status_;
+};
+
+namespace detail {
+
+inline void check(UvfStatus status) {
+    if (status != UVF_OK) throw Error(status, uvf_last_error_message());
+}
+
+/// Holds a std::function progress callback for the duration of one call and remembers an
+/// exception it threw, so it can be rethrown once the C call has returned.
+struct Progress {
+    const std::function<bool(double)> *callback = nullptr;
+    std::exception_ptr error;
+
+    static int trampoline(void *user, double fraction) {
+        auto *self = static_cast<Progress *>(user);
+        try {
+            return (*self->callback)(fraction) ? 0 : 1;
+        } catch (...) {
+            self->error = std::current_exception();
+            return 1;
+        }
+    }
+
+    template <class Options> void install(Options &o) {
+        if (callback && *callback) {
+            o.progress = &Progress::trampoline;
+            o.progress_user = this;
+        }
+    }
+
+    void finish(UvfStatus status) const {
+        if (error) std::rethrow_exception(error);
+        check(status);
+    }
+};
+
+inline std::size_t count_of(const std::vector<double> &flat, std::size_t per, const char *what) {
+    if (flat.size() % per != 0) {
+        throw Error(UVF_INVALID_ARGUMENT, std::string(what) + " must hold " + std::to_string(per) +
+                                              " values per element, but its size is " + std::to_string(flat.size()));
+    }
+    return flat.size() / per;
+}
+
+inline std::size_t count_of(const std::vector<std::uint32_t> &flat, const char *what) {
+    if (flat.size() % 3 != 0) {
+        throw Error(UVF_INVALID_ARGUMENT,
+                    std::string(what) + " must hold 3 indices per triangle, but its size is " + std::to_string(flat.size()));
+    }
+    return flat.size() / 3;
+}
+
+} // namespace detail
+
+/// Library version string, e.g. "0.1.0".
+inline std::string version() { return uvf_version(); }
+
+/// Barycentric weights of `fixed_boundary_map` (UVF_WEIGHTS_*).
+enum class Weights : std::uint32_t {
+    uniform = UVF_WEIGHTS_UNIFORM,
+    floater = UVF_WEIGHTS_FLOATER,
+    authalic = UVF_WEIGHTS_AUTHALIC,
+    conformal = UVF_WEIGHTS_CONFORMAL,
+    mean_value = UVF_WEIGHTS_MEAN_VALUE,
+    intrinsic = UVF_WEIGHTS_INTRINSIC,
+};
+
+/// Boundary shape of `fixed_boundary_map` (UVF_BOUNDARY_*); `given` uses `given_vertices`.
+enum class Boundary : std::uint32_t { circle = UVF_BOUNDARY_CIRCLE, square = UVF_BOUNDARY_SQUARE, given = UVF_BOUNDARY_GIVEN };
+
+/// Spacing of boundary vertices (UVF_DISTRIBUTION_*).
+enum class Distribution : std::uint32_t {
+    uniform = UVF_DISTRIBUTION_UNIFORM,
+    chord = UVF_DISTRIBUTION_CHORD,
+    centripetal = UVF_DISTRIBUTION_CENTRIPETAL,
+};
+
+/// Options of `fixed_boundary_map`; defaults as `uvf_fixed_boundary_options_default`.
+struct FixedBoundaryOptions {
+    Weights weights = Weights::mean_value;
+    Boundary boundary = Boundary::circle;
+    Distribution distribution = Distribution::chord;
+    double lambda = 1.0;
+    double mu = 0.0;
+    /// For Boundary::given: vertices of whole boundary loops and their UVs (2 per vertex).
+    std::vector<std::uint32_t> given_vertices;
+    std::vector<double> given_uv;
+    std::function<bool(double)> progress;
+};
+
+/// Options of `natural_conformal_map`: no pins means the two boundary vertices farthest apart.
+struct NaturalConformalOptions {
+    struct Pin {
+        std::uint32_t vertex;
+        double u, v;
+    };
+    std::vector<Pin> pins; // empty or exactly two
+    std::function<bool(double)> progress;
+};
+
+/// Topology of a mesh (validates it; throws on invalid meshes).
+inline UvfMeshInfo mesh_info(const double *positions, std::size_t vertex_count, const std::uint32_t *triangles,
+                             std::size_t triangle_count) {
+    UvfMeshInfo info{};
+    detail::check(uvf_mesh_info(positions, vertex_count, triangles, triangle_count, &info));
+    return info;
+}
+
+inline UvfMeshInfo mesh_info(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles) {
+    return mesh_info(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
+                     detail::count_of(triangles, "triangles"));
+}
+
+/// Ordered boundary loops (counter-clockwise).
+inline std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<double> &positions,
+                                                              const std::vector<std::uint32_t> &triangles) {
+    const std::size_t nv = detail::count_of(positions, 3, "positions"), nt = detail::count_of(triangles, "triangles");
+    const UvfMeshInfo info = mesh_info(positions.data(), nv, triangles.data(), nt);
+    std::vector<std::uint32_t> vertices(info.boundary_vertices), offsets(info.boundary_loops + 1);
+    detail::check(uvf_boundary_loops(positions.data(), nv, triangles.data(), nt, vertices.data(), vertices.size(),
+                                     offsets.data(), offsets.size()));
+    std::vector<std::vector<std::uint32_t>> loops;
+    for (std::size_t k = 0; k + 1 < offsets.size(); ++k) {
+        loops.emplace_back(vertices.begin() + offsets[k], vertices.begin() + offsets[k + 1]);
+    }
+    return loops;
+}
+
+/// Fixed-boundary barycentric map; returns 2 doubles per vertex (NaN for unreferenced ones).
+inline std::vector<double> fixed_boundary_map(const double *positions, std::size_t vertex_count,
+                                              const std::uint32_t *triangles, std::size_t triangle_count,
+                                              const FixedBoundaryOptions &options = {}) {
+    UvfFixedBoundaryOptions o;
+    uvf_fixed_boundary_options_default(&o);
+    o.weights = static_cast<std::uint32_t>(options.weights);
+    o.boundary = static_cast<std::uint32_t>(options.boundary);
+    o.distribution = static_cast<std::uint32_t>(options.distribution);
+    o.lambda = options.lambda;
+    o.mu = options.mu;
+    if (options.given_uv.size() != 2 * options.given_vertices.size()) {
+        throw Error(UVF_INVALID_ARGUMENT, "given_uv must hold 2 values per given vertex");
+    }
+    o.given_count = options.given_vertices.size();
+    o.given_vertices = options.given_vertices.data();
+    o.given_uv = options.given_uv.data();
+    detail::Progress progress;
+    progress.callback = &options.progress;
+    progress.install(o);
+    std::vector<double> uv(2 * vertex_count);
+    progress.finish(uvf_fixed_boundary_map(positions, vertex_count, triangles, triangle_count, &o, uv.data()));
+    return uv;
+}
+
+inline std::vector<double> fixed_boundary_map(const std::vector<double> &positions,
+                                              const std::vector<std::uint32_t> &triangles,
+                                              const FixedBoundaryOptions &options = {}) {
+    return fixed_boundary_map(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
+                              detail::count_of(triangles, "triangles"), options);
+}
+
+/// Natural conformal map (= LSCM); returns 2 doubles per vertex (NaN for unreferenced ones).
+inline std::vector<double> natural_conformal_map(const double *positions, std::size_t vertex_count,
+                                                 const std::uint32_t *triangles, std::size_t triangle_count,
+                                                 const NaturalConformalOptions &options = {}) {
+    UvfNaturalConformalOptions o;
+    uvf_natural_conformal_options_default(&o);
+    if (!options.pins.empty()) {
+        if (options.pins.size() != 2) throw Error(UVF_INVALID_ARGUMENT, "give no pins or exactly two");
+        o.pin_count = 2;
+        for (int k = 0; k < 2; ++k) {
+            o.pin_vertices[k] = options.pins[k].vertex;
+            o.pin_uv[2 * k] = options.pins[k].u;
+            o.pin_uv[2 * k + 1] = options.pins[k].v;
+        }
+    }
+    detail::Progress progress;
+    progress.callback = &options.progress;
+    progress.install(o);
+    std::vector<double> uv(2 * vertex_count);
+    progress.finish(uvf_natural_conformal_map(positions, vertex_count, triangles, triangle_count, &o, uv.data()));
+    return uv;
+}
+
+inline std::vector<double> natural_conformal_map(const std::vector<double> &positions,
+                                                 const std::vector<std::uint32_t> &triangles,
+                                                 const NaturalConformalOptions &options = {}) {
+    return natural_conformal_map(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
+                                 detail::count_of(triangles, "triangles"), options);
+}
+
+/// Distortion of per-vertex UVs (2 doubles per vertex).
+inline UvfMetrics metrics(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+                          const std::vector<double> &uv) {
+    UvfMetrics m{};
+    detail::check(uvf_metrics(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
+                              detail::count_of(triangles, "triangles"), uv.data(), detail::count_of(uv, 2, "uv"),
+                              nullptr, &m));
+    return m;
+}
+
+/// Distortion of per-corner UVs: `uv_triangles` holds 3 indices into `uv` per triangle.
+inline UvfMetrics metrics(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+                          const std::vector<double> &uv, const std::vector<std::uint32_t> &uv_triangles) {
+    if (uv_triangles.size() != triangles.size()) {
+        throw Error(UVF_INVALID_ARGUMENT, "uv_triangles must have as many entries as triangles");
+    }
+    UvfMetrics m{};
+    detail::check(uvf_metrics(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
+                              detail::count_of(triangles, "triangles"), uv.data(), detail::count_of(uv, 2, "uv"),
+                              uv_triangles.data(), &m));
+    return m;
+}
+
+} // namespace uvflat
+
+#endif // UVFLAT_HPP

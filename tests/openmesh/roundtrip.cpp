@@ -1,0 +1,149 @@
+// OpenMesh integration test (run by tests/openmesh.rs): reads meshes with OpenMesh, hands its
+// flat arrays to uvflat through the C++ wrapper, stores the UVs as OpenMesh vertex texcoords,
+// writes and re-reads the mesh with OpenMesh, and checks the round trip and the metrics.
+//
+// usage: roundtrip OUT_DIR MESH.obj...
+// Prints one line per mesh and method; exits 1 if any check failed.
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+
+#include "uvflat.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
+
+namespace {
+
+int failures = 0;
+
+void fail(const std::string &mesh, const std::string &what) {
+    std::printf("FAIL %s: %s\n", mesh.c_str(), what.c_str());
+    ++failures;
+}
+
+struct Arrays {
+    std::vector<double> positions;
+    std::vector<std::uint32_t> triangles;
+};
+
+Arrays flat_arrays(const Mesh &mesh) {
+    Arrays a;
+    for (auto v : mesh.vertices()) {
+        const auto p = mesh.point(v);
+        a.positions.insert(a.positions.end(), {double(p[0]), double(p[1]), double(p[2])});
+    }
+    for (auto f : mesh.faces()) {
+        for (auto v : mesh.fv_range(f)) a.triangles.push_back(std::uint32_t(v.idx()));
+    }
+    return a;
+}
+
+std::string base_name(const std::string &path) { return path.substr(path.find_last_of('/') + 1); }
+
+double uv_diameter(const std::vector<double> &uv) {
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (std::size_t i = 0; i < uv.size(); ++i) {
+        if (std::isnan(uv[i])) continue;
+        lo[i % 2] = std::min(lo[i % 2], uv[i]);
+        hi[i % 2] = std::max(hi[i % 2], uv[i]);
+    }
+    return std::hypot(hi[0] - lo[0], hi[1] - lo[1]);
+}
+
+/// Stores `uv` as texcoords, writes an OBJ with OpenMesh, reads it back; returns the largest
+/// UV difference relative to the UV diameter (or -1 when OpenMesh could not write or read).
+double round_trip(Mesh mesh, const std::vector<double> &uv, const std::string &path) {
+    mesh.request_vertex_texcoords2D();
+    for (auto v : mesh.vertices()) {
+        const double u = uv[2 * v.idx()], w = uv[2 * v.idx() + 1];
+        mesh.set_texcoord2D(v, Mesh::TexCoord2D(float(std::isnan(u) ? 0 : u), float(std::isnan(w) ? 0 : w)));
+    }
+    OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexTexCoord;
+    if (!OpenMesh::IO::write_mesh(mesh, path, options, 10)) return -1;
+    Mesh back;
+    back.request_vertex_texcoords2D();
+    OpenMesh::IO::Options read_options = OpenMesh::IO::Options::VertexTexCoord;
+    if (!OpenMesh::IO::read_mesh(back, path, read_options) || back.n_vertices() != mesh.n_vertices()) return -1;
+    double worst = 0;
+    for (auto v : back.vertices()) {
+        if (std::isnan(uv[2 * v.idx()])) continue;
+        const auto t = back.texcoord2D(v);
+        worst = std::max(worst, std::hypot(t[0] - uv[2 * v.idx()], t[1] - uv[2 * v.idx() + 1]));
+    }
+    return worst / uv_diameter(uv);
+}
+
+void check_method(const std::string &name, const Mesh &mesh, const Arrays &a, const char *method,
+                  const std::string &out_dir, bool must_not_flip) {
+    std::vector<double> uv;
+    try {
+        if (std::string(method) == "mean-value") {
+            uv = uvflat::fixed_boundary_map(a.positions, a.triangles);
+        } else {
+            uv = uvflat::natural_conformal_map(a.positions, a.triangles);
+        }
+    } catch (const uvflat::Error &e) {
+        fail(name, std::string(method) + " failed on a disk-like mesh: " + e.what());
+        return;
+    }
+    const UvfMetrics m = uvflat::metrics(a.positions, a.triangles, uv);
+    // OpenMesh stores texcoords as float: the round trip keeps ~7 significant digits.
+    const double trip = round_trip(mesh, uv, out_dir + "/" + name + "." + method + ".obj");
+    std::printf("%s %s: flipped %zu, conformal %.4f, stretch %.4f, round trip %.2e\n", name.c_str(), method,
+                m.flipped, m.conformal_mean, m.stretch_l2, trip);
+    if (trip < 0 || trip > 1e-6) fail(name, std::string(method) + ": OpenMesh round trip lost the UVs");
+    if (m.triangles != a.triangles.size() / 3) fail(name, "metrics counted the wrong number of triangles");
+    if (must_not_flip && m.flipped != 0) fail(name, std::string(method) + " flipped triangles");
+}
+
+void check_mesh(const std::string &path, const std::string &out_dir) {
+    const std::string name = base_name(path);
+    Mesh mesh;
+    if (!OpenMesh::IO::read_mesh(mesh, path)) {
+        std::printf("%s: OpenMesh cannot read it\n", name.c_str());
+        return;
+    }
+    const Arrays a = flat_arrays(mesh);
+    UvfMeshInfo info{};
+    try {
+        info = uvflat::mesh_info(a.positions, a.triangles);
+    } catch (const uvflat::Error &e) {
+        // OpenMesh drops faces it cannot add; what it keeps may still be invalid for uvflat.
+        std::printf("%s: rejected (status %d): %s\n", name.c_str(), int(e.status()), e.what());
+        if (std::string(e.what()).empty()) fail(name, "error without a message");
+        if (name.rfind("disk_", 0) == 0) fail(name, "a disk mesh was rejected");
+        return;
+    }
+    const bool disk_with_holes = info.components == 1 && info.genus == 0 && info.boundary_loops >= 1;
+    if (!disk_with_holes) {
+        try {
+            uvflat::natural_conformal_map(a.positions, a.triangles);
+            fail(name, "a mesh that is not a disk with holes was unwrapped");
+        } catch (const uvflat::Error &e) {
+            std::printf("%s: not a disk (%zu components, %zu loops, genus %lld): %s\n", name.c_str(), info.components,
+                        info.boundary_loops, (long long)info.genus, e.what());
+            if (e.status() != UVF_UNSUPPORTED_TOPOLOGY) fail(name, "expected UVF_UNSUPPORTED_TOPOLOGY");
+        }
+        return;
+    }
+    check_method(name, mesh, a, "mean-value", out_dir, true);
+    check_method(name, mesh, a, "natural-conformal", out_dir, false);
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+    if (argc < 3) {
+        std::fprintf(stderr, "usage: %s OUT_DIR MESH.obj...\n", argv[0]);
+        return 2;
+    }
+    OpenMesh::IO::IOManager(); // make sure the OBJ reader/writer are registered
+    for (int i = 2; i < argc; ++i) check_mesh(argv[i], argv[1]);
+    std::printf("%d failure(s)\n", failures);
+    return failures == 0 ? 0 : 1;
+}
