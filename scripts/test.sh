@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(g++ pkg-config libcgal-dev libeigen3-dev libopenmesh-dev)
+packages=(g++ pkg-config cmake libcgal-dev libeigen3-dev libopenmesh-dev)
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
