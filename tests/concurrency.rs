@@ -1,0 +1,82 @@
+//! Every entry point is reentrant: 8 threads calling the C ABI at once on different meshes get
+//! bit-for-bit the results of single-threaded calls, and each thread sees its own error message.
+
+use std::ffi::CStr;
+use std::path::Path;
+use uvflat::capi::errors::uvf_last_error_message;
+use uvflat::capi::methods::{uvf_fixed_boundary_map, uvf_natural_conformal_map};
+use uvflat::capi::metrics::{uvf_metrics, UvfMetrics};
+use uvflat::error::UvfStatus;
+
+const MESHES: [&str; 4] = ["disk_cat_head", "disk_nefertiti_small", "disk_three_peaks", "disk_mushroom"];
+
+fn load(name: &str) -> (Vec<f64>, Vec<u32>) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../shared/meshes/{name}.obj"));
+    let obj = uvflat::io::obj::read_obj(&path).expect("read mesh");
+    (obj.positions, obj.triangles)
+}
+
+/// Natural conformal and mean-value UVs plus the metrics of the former, as raw bits.
+fn run_all(positions: &[f64], triangles: &[u32]) -> Vec<u64> {
+    let (nv, nt) = (positions.len() / 3, triangles.len() / 3);
+    let mut bits = Vec::new();
+    unsafe {
+        let mut uv = vec![0.0; 2 * nv];
+        let s = uvf_natural_conformal_map(positions.as_ptr(), nv, triangles.as_ptr(), nt, std::ptr::null(), uv.as_mut_ptr());
+        assert_eq!(s, UvfStatus::UVF_OK);
+        let mut m = std::mem::MaybeUninit::<UvfMetrics>::uninit();
+        let s = uvf_metrics(positions.as_ptr(), nv, triangles.as_ptr(), nt, uv.as_ptr(), nv, std::ptr::null(), m.as_mut_ptr());
+        assert_eq!(s, UvfStatus::UVF_OK);
+        let m = m.assume_init();
+        bits.extend(uv.iter().map(|x| x.to_bits()));
+        bits.extend([m.stretch_l2, m.conformal_mean, m.angle_mean, m.area_mean].map(f64::to_bits));
+        let s = uvf_fixed_boundary_map(positions.as_ptr(), nv, triangles.as_ptr(), nt, std::ptr::null(), uv.as_mut_ptr());
+        assert_eq!(s, UvfStatus::UVF_OK);
+        bits.extend(uv.iter().map(|x| x.to_bits()));
+    }
+    bits
+}
+
+#[test]
+fn eight_threads_get_single_threaded_results_bit_for_bit() {
+    let meshes: Vec<_> = MESHES.iter().map(|m| load(m)).collect();
+    let expected: Vec<Vec<u64>> = meshes.iter().map(|(p, t)| run_all(p, t)).collect();
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..8)
+            .map(|i| {
+                let (meshes, expected) = (&meshes, &expected);
+                scope.spawn(move || {
+                    for round in 0..3 {
+                        let k = (i + round) % meshes.len();
+                        let (p, t) = &meshes[k];
+                        assert!(run_all(p, t) == expected[k], "thread {i}: {} differs", MESHES[k]);
+                    }
+                })
+            })
+            .collect();
+        for h in handles {
+            h.join().expect("worker thread panicked");
+        }
+    });
+}
+
+#[test]
+fn error_messages_are_per_thread() {
+    let (positions, mut triangles) = load("disk_cat_head");
+    triangles[7] = 1_000_000 + 7;
+    std::thread::scope(|scope| {
+        for i in 0..8u32 {
+            let (positions, mut triangles) = (positions.clone(), triangles.clone());
+            scope.spawn(move || unsafe {
+                triangles[7] = 2_000_000 + i;
+                let mut uv = vec![0.0; positions.len() / 3 * 2];
+                for _ in 0..20 {
+                    let s = uvf_natural_conformal_map(positions.as_ptr(), positions.len() / 3, triangles.as_ptr(), triangles.len() / 3, std::ptr::null(), uv.as_mut_ptr());
+                    assert_eq!(s, UvfStatus::UVF_INVALID_MESH);
+                    let message = CStr::from_ptr(uvf_last_error_message()).to_string_lossy().into_owned();
+                    assert!(message.contains(&format!("{}", 2_000_000 + i)), "thread {i} saw: {message}");
+                }
+            });
+        }
+    });
+}
