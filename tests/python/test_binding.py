@@ -1,0 +1,776 @@
+"""Tests of the Python ctypes binding (bindings/python) against the built libuvflat.so.
+
+Run with scripts/python_tests.sh, which builds the library, installs the binding in a venv and
+sets UVFLAT_LIBRARY. Meshes come from ../shared/meshes; the CLI (target/release/uvflat) is
+the reference the binding's results must equal.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import uvflat
+from uvflat import _api, _errors, _library
+from conftest import (
+    HEADER,
+    REPO,
+    cli_error,
+    cli_unwrap,
+    library_file,
+    load_mesh,
+    mesh_path,
+    missing,
+    parse_obj,
+    run_cli,
+)
+
+# A flat unit square folded along its diagonal (the README's C example).
+SQUARE_P = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0.3], [0, 1, 0]], dtype=np.float64)
+SQUARE_T = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+
+
+def canonical(name: str):
+    """A shared mesh as the binding wants it: float64 positions, uint32 triangles."""
+    p, t = load_mesh(name)
+    return p, t.astype(np.uint32)
+
+
+def assert_uv_equal(actual: np.ndarray, expected: np.ndarray, referenced: np.ndarray) -> None:
+    """Equal to 1e-12 on referenced vertices (the CLI writes `vt 0 0` for the others)."""
+    assert actual.shape == expected.shape
+    np.testing.assert_allclose(actual[referenced], expected[referenced], rtol=0, atol=1e-12)
+
+
+def referenced_mask(n: int, triangles: np.ndarray) -> np.ndarray:
+    mask = np.zeros(n, dtype=bool)
+    mask[np.asarray(triangles, dtype=np.int64).ravel()] = True
+    return mask
+
+
+# --- the library, its header and the ctypes declarations --------------------------------------
+
+
+def test_version_and_abi_version_match_the_crate_and_the_header():
+    cargo = (REPO / "Cargo.toml").read_text()
+    crate_version = re.search(r'^version\s*=\s*"([^"]+)"', cargo, re.M).group(1)
+    assert uvflat.version() == crate_version
+    header_abi = int(re.search(r"#define UVF_ABI_VERSION (\d+)", HEADER.read_text()).group(1))
+    assert uvflat.abi_version() == uvflat.ABI_VERSION == header_abi
+
+
+def header_functions():
+    """{name: (return type, [parameter declarations])} of every function in uvflat.h."""
+    text = re.sub(r"/\*.*?\*/", "", HEADER.read_text(), flags=re.S)
+    found = {}
+    for ret, name, params in re.findall(r"^([A-Za-z_][\w ]*?[\s*]+)(uvf_\w+)\(([^)]*)\);", text, re.M | re.S):
+        parts = [p.strip() for p in params.split(",")]
+        found[name] = (ret.strip(), [] if parts == ["void"] else parts)
+    return found
+
+
+C_TYPES = {
+    "const double *": ctypes.POINTER(ctypes.c_double),
+    "double *": ctypes.POINTER(ctypes.c_double),
+    "const uint32_t *": ctypes.POINTER(ctypes.c_uint32),
+    "uint32_t *": ctypes.POINTER(ctypes.c_uint32),
+    "size_t": ctypes.c_size_t,
+    "struct UvfMeshInfo *": ctypes.POINTER(_library.UvfMeshInfo),
+    "struct UvfMetrics *": ctypes.POINTER(_library.UvfMetrics),
+    "struct UvfFixedBoundaryOptions *": ctypes.POINTER(_library.UvfFixedBoundaryOptions),
+    "const struct UvfFixedBoundaryOptions *": ctypes.POINTER(_library.UvfFixedBoundaryOptions),
+    "struct UvfNaturalConformalOptions *": ctypes.POINTER(_library.UvfNaturalConformalOptions),
+    "const struct UvfNaturalConformalOptions *": ctypes.POINTER(_library.UvfNaturalConformalOptions),
+}
+C_RETURNS = {
+    "enum UvfStatus": ctypes.c_int,
+    "const char *": ctypes.c_char_p,
+    "uint32_t": ctypes.c_uint32,
+    "void": None,
+}
+
+
+def test_every_header_function_is_declared_with_the_header_prototype():
+    functions = header_functions()
+    assert len(functions) == 11, sorted(functions)
+    assert set(functions) == set(_library.PROTOTYPES)
+    lib = uvflat.load_library(library_file())
+    for name, (ret, params) in functions.items():
+        restype, argtypes = _library.PROTOTYPES[name]
+        assert restype is C_RETURNS[ret], name
+        declared = [C_TYPES[re.sub(r"\w+$", "", p).strip()] for p in params]
+        assert list(argtypes) == declared, name
+        assert list(getattr(lib, name).argtypes) == declared and getattr(lib, name).restype is restype
+
+
+def test_constants_and_status_codes_match_the_header():
+    text = HEADER.read_text()
+    defines = {k: int(v) for k, v in re.findall(r"#define (UVF_\w+) (\d+)", text)}
+    defines.pop("UVF_ABI_VERSION")
+    assert defines, "no constants found in the header"
+    for name, value in defines.items():
+        assert getattr(uvflat, name) == value, name
+    statuses = {k: int(v) for k, v in re.findall(r"^\s*UVF_(\w+) = (\d+),", text, re.M)}
+    assert statuses == {s.name: s.value for s in uvflat.Status}
+
+
+STRUCTS = {
+    "UvfMeshInfo": _library.UvfMeshInfo,
+    "UvfFixedBoundaryOptions": _library.UvfFixedBoundaryOptions,
+    "UvfNaturalConformalOptions": _library.UvfNaturalConformalOptions,
+    "UvfMetrics": _library.UvfMetrics,
+}
+
+
+def c_name(field: str) -> str:
+    return "lambda" if field == "lambda_" else field
+
+
+def test_struct_layouts_match_the_c_compiler(tmp_path):
+    """sizeof and every offsetof, as a C compiler sees uvflat.h, equal the ctypes mirror."""
+    cc = shutil.which(os.environ.get("CC", "cc")) or shutil.which("gcc") or shutil.which("clang")
+    if cc is None:
+        missing("no C compiler (cc) to measure the header's struct layouts")
+    lines = []
+    for struct, cls in STRUCTS.items():
+        lines.append(f'printf("{struct} sizeof %zu\\n", sizeof(struct {struct}));')
+        for field, _ in cls._fields_:
+            lines.append(f'printf("{struct} {field} %zu\\n", offsetof(struct {struct}, {c_name(field)}));')
+    source = tmp_path / "layout.c"
+    source.write_text(
+        "#include <stddef.h>\n#include <stdio.h>\n#include \"uvflat.h\"\nint main(void) {\n"
+        + "\n".join("    " + line for line in lines)
+        + "\n    return 0;\n}\n"
+    )
+    exe = tmp_path / "layout"
+    subprocess.run([cc, "-std=c99", "-I", str(HEADER.parent), str(source), "-o", str(exe)], check=True)
+    measured = {}
+    for line in subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout.splitlines():
+        struct, field, value = line.split()
+        measured[(struct, field)] = int(value)
+    for struct, cls in STRUCTS.items():
+        assert ctypes.sizeof(cls) == measured[(struct, "sizeof")], struct
+        for field, _ in cls._fields_:
+            assert getattr(cls, field).offset == measured[(struct, field)], (struct, field)
+
+
+def test_options_struct_size_round_trips_through_the_default_functions():
+    lib = uvflat.load_library(library_file())
+    fixed = _library.UvfFixedBoundaryOptions()
+    lib.uvf_fixed_boundary_options_default(ctypes.byref(fixed))
+    assert fixed.struct_size == ctypes.sizeof(_library.UvfFixedBoundaryOptions)
+    assert (fixed.weights, fixed.boundary, fixed.distribution) == (
+        uvflat.UVF_WEIGHTS_MEAN_VALUE,
+        uvflat.UVF_BOUNDARY_CIRCLE,
+        uvflat.UVF_DISTRIBUTION_CHORD,
+    )
+    assert (fixed.lambda_, fixed.mu, fixed.given_count, bool(fixed.progress)) == (1.0, 0.0, 0, False)
+    natural = _library.UvfNaturalConformalOptions()
+    lib.uvf_natural_conformal_options_default(ctypes.byref(natural))
+    assert natural.struct_size == ctypes.sizeof(_library.UvfNaturalConformalOptions)
+    assert natural.pin_count == 0 and not natural.progress
+    lib.uvf_fixed_boundary_options_default(None)  # NULL is allowed and ignored
+
+
+# --- finding the library ----------------------------------------------------------------------
+
+
+def run_python(code: str, env: dict, cwd: Path) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, env=env, cwd=cwd
+    )
+
+
+def clean_env(**extra: str) -> dict:
+    env = {k: v for k, v in os.environ.items() if k not in ("UVFLAT_LIBRARY", "LD_LIBRARY_PATH", "PYTHONPATH")}
+    env.update(extra)
+    return env
+
+
+def test_explicit_path_comes_before_the_environment_variable(tmp_path):
+    result = run_python(
+        f"""
+        import uvflat
+        uvflat.load_library({str(library_file())!r})
+        print(uvflat.library_path()); print(uvflat.version())
+        """,
+        clean_env(UVFLAT_LIBRARY=str(tmp_path / "nowhere.so")),
+        tmp_path,
+    )
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split() == [str(library_file()), uvflat.version()]
+
+
+def test_environment_variable_is_used_and_a_wrong_one_is_an_error(tmp_path):
+    good = run_python(
+        "import uvflat; print(uvflat.library_path())", clean_env(UVFLAT_LIBRARY=str(library_file())), tmp_path
+    )
+    assert good.returncode == 0, good.stderr
+    assert good.stdout.strip() == str(library_file())
+    bad = run_python(
+        """
+        import uvflat
+        try:
+            uvflat.mesh_info([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        except uvflat.LibraryError as e:
+            print("LibraryError:", e)
+        """,
+        clean_env(UVFLAT_LIBRARY=str(tmp_path / "nowhere.so")),
+        tmp_path,
+    )
+    assert bad.returncode == 0, bad.stderr
+    assert bad.stdout.startswith("LibraryError: cannot load libuvflat") and "nowhere.so" in bad.stdout
+
+
+def test_a_library_copied_into_the_package_directory_is_found(tmp_path):
+    package = tmp_path / "site" / "uvflat"
+    shutil.copytree(Path(uvflat.__file__).parent, package, ignore=shutil.ignore_patterns("*.so", "__pycache__"))
+    shutil.copy(library_file(), package / "libuvflat.so")
+    result = run_python(
+        "import uvflat; print(uvflat.__file__); print(uvflat.library_path()); print(uvflat.version())",
+        clean_env(PYTHONPATH=str(tmp_path / "site")),
+        tmp_path,
+    )
+    assert result.returncode == 0, result.stderr
+    module, path, version = result.stdout.split()
+    assert Path(module).parent == package and Path(path) == package / "libuvflat.so"
+    assert version == uvflat.version()
+
+
+def test_the_system_search_path_is_the_last_resort(tmp_path):
+    result = run_python(
+        "import uvflat; print(uvflat.library_path()); print(uvflat.version())",
+        clean_env(LD_LIBRARY_PATH=str(library_file().parent)),
+        tmp_path,
+    )
+    assert result.returncode == 0, result.stderr
+    path, version = result.stdout.split()
+    assert "uvflat" in path and version == uvflat.version()
+
+
+def test_a_library_with_another_abi_version_is_refused(monkeypatch):
+    before = uvflat.library_path()
+    monkeypatch.setattr(_library, "ABI_VERSION", 99)
+    with pytest.raises(uvflat.LibraryError, match="ABI version 1 but this uvflat binding was written for ABI version 99"):
+        uvflat.load_library(library_file())
+    monkeypatch.undo()
+    assert uvflat.library_path() == before  # the library in use stays
+    assert uvflat.mesh_info(SQUARE_P, SQUARE_T).triangles == 2
+
+
+# --- topology ---------------------------------------------------------------------------------
+
+TOPOLOGY_MESHES = [
+    "disk_cat_head.obj",
+    "holes_pig.obj",
+    "holes_elephant.obj",
+    "closed_g1_bob.obj",
+    "closed_g2_eight.obj",
+    "bad_unreferenced_vertices.obj",
+]
+
+
+@pytest.mark.parametrize("name", TOPOLOGY_MESHES)
+def test_mesh_info_equals_the_cli(name):
+    p, t = load_mesh(name)
+    info = uvflat.mesh_info(p, t)
+    cli = json.loads(run_cli("info", str(mesh_path(name)), "--json").stdout)
+    assert info == uvflat.MeshInfo(
+        vertices=cli["vertices"],
+        referenced_vertices=cli["referenced_vertices"],
+        triangles=cli["faces"],
+        edges=cli["edges"],
+        components=cli["components"],
+        boundary_loops=cli["boundary_loops"],
+        boundary_vertices=info.boundary_vertices,
+        euler_characteristic=cli["euler_characteristic"],
+        genus=cli["genus"],
+    )
+    assert info.euler_characteristic == info.referenced_vertices - info.edges + info.triangles
+
+
+@pytest.mark.parametrize("name", TOPOLOGY_MESHES)
+def test_boundary_loops_follow_boundary_edges_counter_clockwise(name):
+    p, t = load_mesh(name)
+    info = uvflat.mesh_info(p, t)
+    loops = uvflat.boundary_loops(p, t)
+    assert len(loops) == info.boundary_loops
+    assert sum(len(lp) for lp in loops) == info.boundary_vertices
+    directed = {(int(a), int(b)) for tri in t for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0]))}
+    boundary = {(a, b) for a, b in directed if (b, a) not in directed}
+    walked = set()
+    for lp in loops:
+        assert lp.dtype == np.uint32
+        for a, b in zip(lp, np.roll(lp, -1)):
+            walked.add((int(a), int(b)))
+    assert walked == boundary  # every boundary edge once, in the triangles' direction
+
+
+def test_triangle_components_label_each_connected_part():
+    p, t = load_mesh("disk_cat_head.obj")
+    q, s = load_mesh("closed_g1_bob.obj")
+    positions = np.vstack([p, q + 10.0])
+    triangles = np.vstack([t, s + len(p)])
+    components = uvflat.triangle_components(positions, triangles)
+    assert components.dtype == np.uint32 and components.shape == (len(triangles),)
+    first, second = components[: len(t)], components[len(t):]
+    assert len(set(first)) == 1 and len(set(second)) == 1 and first[0] != second[0]
+    assert set(components) == {0, 1}
+    assert uvflat.mesh_info(positions, triangles).components == 2
+
+
+# --- results equal the CLI's ------------------------------------------------------------------
+
+CLI_MESHES = ["disk_cat_head.obj", "disk_nefertiti_small.obj", "holes_pig.obj", "bad_unreferenced_vertices.obj"]
+CLI_CASES = [
+    ("tutte", (), dict(weights="uniform")),
+    ("floater", (), dict(weights="floater")),
+    ("authalic", (), dict(weights="authalic")),
+    ("conformal", (), dict(weights="conformal")),
+    ("mean-value", (), dict()),
+    ("mean-value", ("--boundary", "square"), dict(boundary="square")),
+    ("mean-value", ("--distribution", "uniform"), dict(distribution="uniform")),
+    ("floater", ("--boundary", "square", "--distribution", "centripetal"), dict(weights="floater", boundary="square", distribution="centripetal")),
+    ("intrinsic", ("--lambda", "0.5", "--mu", "2"), dict(weights="intrinsic", lambda_=0.5, mu=2.0)),
+    ("natural-conformal", (), None),
+]
+
+
+@pytest.mark.parametrize("name", CLI_MESHES)
+@pytest.mark.parametrize("method,options,kwargs", CLI_CASES, ids=["-".join((m, *o)) for m, o, _ in CLI_CASES])
+def test_uv_equal_the_cli(name, method, options, kwargs, tmp_path):
+    p, t = load_mesh(name)
+    expected, stdout = cli_unwrap(mesh_path(name), tmp_path, "--method", method, *options)
+    if kwargs is None:
+        uv = uvflat.natural_conformal_map(p, t)
+    else:
+        uv = uvflat.fixed_boundary_map(p, t, **kwargs)
+    assert uv.dtype == np.float64 and uv.shape == (len(p), 2) and uv.flags.c_contiguous
+    assert_uv_equal(uv, expected, referenced_mask(len(p), t))
+    # and the metrics the CLI prints are the binding's metrics of the same UVs
+    cli_metrics = json.loads(stdout)
+    ours = uvflat.metrics(p, t, uv)
+    for field, value in vars(ours).items():
+        assert value == pytest.approx(cli_metrics[field], rel=1e-12, abs=1e-12), field
+
+
+@pytest.mark.parametrize(
+    "function,kwargs,method",
+    [
+        (uvflat.tutte, {}, "tutte"),
+        (uvflat.floater, {}, "floater"),
+        (uvflat.authalic, {}, "authalic"),
+        (uvflat.conformal, {}, "conformal"),
+        (uvflat.mean_value, {}, "mean-value"),
+        (uvflat.intrinsic, dict(lambda_=1.0, mu=1.0), "intrinsic"),
+        (uvflat.lscm, {}, "natural-conformal"),
+    ],
+)
+def test_convenience_functions_equal_the_cli(function, kwargs, method, tmp_path):
+    name = "disk_nefertiti_small.obj"
+    p, t = load_mesh(name)
+    extra = ("--lambda", "1", "--mu", "1") if method == "intrinsic" else ()
+    expected, _ = cli_unwrap(mesh_path(name), tmp_path, "--method", method, *extra)
+    assert_uv_equal(function(p, t, **kwargs), expected, referenced_mask(len(p), t))
+
+
+def test_given_boundary_equals_the_cli_boundary_file(tmp_path):
+    name = "disk_cat_head.obj"
+    p, t = load_mesh(name)
+    (loop,) = uvflat.boundary_loops(p, t)
+    angles = np.linspace(0, 2 * np.pi, len(loop), endpoint=False)
+    given = {int(v): (0.5 + 0.4 * float(np.cos(a)), 0.5 + 0.3 * float(np.sin(a))) for v, a in zip(loop, angles)}
+    boundary_file = tmp_path / "boundary.txt"
+    boundary_file.write_text("".join(f"{v} {u!r} {w!r}\n" for v, (u, w) in given.items()))
+    expected, _ = cli_unwrap(mesh_path(name), tmp_path, "--method", "floater", "--boundary", str(boundary_file))
+    mask = referenced_mask(len(p), t)
+    uv = uvflat.floater(p, t, boundary=given)
+    assert_uv_equal(uv, expected, mask)
+    pair = (np.array(list(given)), np.array(list(given.values())))
+    assert_uv_equal(uvflat.floater(p, t, boundary=pair), expected, mask)
+    for v, (u, w) in given.items():
+        assert tuple(uv[v]) == (u, w)
+
+
+def test_pins_equal_the_cli_pins(tmp_path):
+    name = "disk_nefertiti_small.obj"
+    p, t = load_mesh(name)
+    a, b = 3, 200
+    expected, _ = cli_unwrap(mesh_path(name), tmp_path, "--pin", str(a), "--pin", str(b))
+    d = float(np.linalg.norm(p[a] - p[b]))
+    uv = uvflat.natural_conformal_map(p, t, pins=((a, (0.0, 0.0)), (b, (d, 0.0))))
+    assert_uv_equal(uv, expected, referenced_mask(len(p), t))
+    assert tuple(uv[a]) == (0.0, 0.0) and tuple(uv[b]) == (d, 0.0)
+
+
+def test_per_corner_uvs_measure_like_per_vertex_uvs():
+    p, t = canonical("disk_three_peaks.obj")
+    uv = uvflat.natural_conformal_map(p, t)
+    per_vertex = uvflat.metrics(p, t, uv)
+    corners = uv[t].reshape(-1, 2)
+    per_corner = uvflat.metrics(p, t, corners, np.arange(3 * len(t)).reshape(-1, 3))
+    for field in ("triangles", "flipped", "degenerate_uv", "stretch_l2", "stretch_linf", "conformal_mean",
+                  "conformal_max", "angle_mean", "angle_max", "area_mean", "area_max"):
+        assert getattr(per_corner, field) == pytest.approx(getattr(per_vertex, field), rel=1e-12, abs=1e-15), field
+
+
+def test_a_flat_mesh_is_its_own_parameterization():
+    xs, ys = np.meshgrid(np.linspace(0, 1, 6), np.linspace(0, 1, 5))
+    p = np.column_stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)])
+    idx = np.arange(30).reshape(5, 6)
+    t = np.vstack([np.column_stack([idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel()]),
+                   np.column_stack([idx[:-1, :-1].ravel(), idx[1:, 1:].ravel(), idx[1:, :-1].ravel()])])
+    m = uvflat.metrics(p, t, p[:, :2])
+    assert (m.flipped, m.degenerate_uv, m.boundary_intersections) == (0, 0, 0)
+    assert m.angle_max < 1e-12 and m.conformal_max == pytest.approx(1.0, abs=1e-12)
+    uv = uvflat.natural_conformal_map(p, t, pins=((0, (0.0, 0.0)), (5, (1.0, 0.0))))
+    np.testing.assert_allclose(uv, p[:, :2], atol=1e-12)
+
+
+# --- errors -----------------------------------------------------------------------------------
+
+BAD_MESHES = [
+    ("bad_degenerate_faces.obj", r"triangle 127 uses vertex 20 more than once"),
+    ("bad_duplicate_faces.obj", r"triangle 128 uses the same three vertices as triangle 10"),
+    ("bad_empty_no_faces.obj", r"the mesh has no triangles"),
+    ("bad_inconsistent_orientation.obj", r"triangles 15 and 30 are inconsistently oriented: both traverse edge \(17, 16\)"),
+    ("bad_nan_coordinate.obj", r"vertex 12 has a non-finite coordinate \(inf\)"),
+    ("bad_nonmanifold_edge.obj", r"edge \(40, 50\) is non-manifold: it is shared by 3 triangles \[72, 73, 128\]"),
+    ("bad_nonmanifold_vertex.obj", r"vertex 80 is non-manifold: its triangles form 2 separate fans"),
+    ("realbad_moebius.obj", r"triangles 27 and 226 are inconsistently oriented"),
+    ("realbad_triple_vierbein.obj", r"edge \(0, 1\) is non-manifold"),
+]
+ALL_METHODS = [
+    uvflat.mesh_info,
+    uvflat.boundary_loops,
+    uvflat.triangle_components,
+    uvflat.fixed_boundary_map,
+    uvflat.natural_conformal_map,
+]
+
+
+@pytest.mark.parametrize("name,message", BAD_MESHES)
+@pytest.mark.parametrize("function", ALL_METHODS, ids=lambda f: f.__name__)
+def test_invalid_meshes_raise_invalid_mesh_naming_the_element(name, message, function):
+    p, t = load_mesh(name)
+    with pytest.raises(uvflat.InvalidMesh) as caught:
+        function(p, t)
+    error = caught.value
+    assert isinstance(error, uvflat.Error) and isinstance(error, ValueError)
+    assert error.status == uvflat.Status.INVALID_MESH == 2
+    assert re.fullmatch(message + ".*", error.message), error.message
+    assert str(error) == error.message
+    if function is uvflat.mesh_info:
+        assert error.message == cli_error(mesh_path(name))
+
+
+def test_out_of_range_indices_name_the_triangle():
+    p, t = load_mesh("bad_out_of_range_index.obj")
+    # the file's last face has OBJ index 0 (-1 here): the binding refuses it before the library
+    with pytest.raises(uvflat.InvalidMesh, match=r"^triangle 129 references vertex -1, which is negative$"):
+        uvflat.natural_conformal_map(p, t)
+    # the face before it references vertex 86 (1-based) of 81: the library's message
+    # (the CLI's OBJ reader rejects both faces itself, so its message is not the library's)
+    with pytest.raises(uvflat.InvalidMesh, match=r"^triangle 128 references vertex 85 but the mesh has 81 vertices$"):
+        uvflat.mesh_info(p, t[:-1])
+    too_big = t[:-1].copy()
+    too_big[5, 2] = 2**32 + 3  # would wrap to vertex 3 if cast blindly
+    with pytest.raises(uvflat.InvalidMesh, match=r"^triangle 5 references vertex 4294967299, which does not fit in 32 bits$"):
+        uvflat.mean_value(p, too_big)
+
+
+@pytest.mark.parametrize("name", ["closed_g1_bob.obj", "holes_punctured_torus.obj", "closed_g0_decimated_knight.obj"])
+@pytest.mark.parametrize("function", [uvflat.fixed_boundary_map, uvflat.natural_conformal_map], ids=lambda f: f.__name__)
+def test_meshes_that_are_not_disks_raise_unsupported_topology(name, function):
+    p, t = load_mesh(name)
+    info = uvflat.mesh_info(p, t)
+    with pytest.raises(uvflat.UnsupportedTopology) as caught:
+        function(p, t)
+    assert caught.value.status == uvflat.Status.UNSUPPORTED_TOPOLOGY
+    assert caught.value.message == (
+        f"the mesh is not a topological disk: {info.components} component(s), "
+        f"{info.boundary_loops} boundary loop(s), genus {info.genus}"
+    )
+
+
+def with_entry(triangles: np.ndarray, row: int, value: int) -> np.ndarray:
+    triangles[row, 1] = value
+    return triangles
+
+
+@pytest.mark.parametrize(
+    "call,message",
+    [
+        # rejected by the library
+        (lambda p, t: uvflat.fixed_boundary_map(p, t, weights=99), r"invalid argument: unknown weights 99; use one of UVF_WEIGHTS_\*"),
+        (lambda p, t: uvflat.fixed_boundary_map(p, t, distribution=7), r"invalid argument: unknown distribution 7; use one of UVF_DISTRIBUTION_\*"),
+        (lambda p, t: uvflat.intrinsic(p, t, lambda_=0.0, mu=0.0), r"invalid argument: intrinsic weights need finite λ, μ not both zero \(got λ = 0, μ = 0\)"),
+        (lambda p, t: uvflat.mean_value(p, t, boundary={60: (0, 0)}), r"invalid argument: vertex 60 was given a boundary position but is not on a boundary loop"),
+        (lambda p, t: uvflat.mean_value(p, t, boundary={1000: (0, 0)}), r"invalid argument: boundary vertex 1000 does not exist \(the mesh has 131 vertices\)"),
+        (lambda p, t: uvflat.natural_conformal_map(p, t, pins=((3, (0, 0)), (3, (1, 0)))), r"invalid argument: the two pins must be different vertices \(both are 3\)"),
+        (lambda p, t: uvflat.natural_conformal_map(p, t, pins=((3, (0, 0)), (500, (1, 0)))), r"invalid argument: pinned vertex 500 is not a vertex of the mesh's triangles"),
+        (lambda p, t: uvflat.metrics(p, t, np.zeros((3, 2))), r"invalid argument: uv_triangles is NULL \(per-vertex UVs\) but uv_count 3 differs from vertex_count 131"),
+        (lambda p, t: uvflat.metrics(p, t, np.zeros((3, 2)), with_entry(np.zeros_like(t), 7, 5)), r"invalid argument: triangle 7 references uv 5 but there are 3 uv coordinates"),
+        # rejected by the binding before the call
+        (lambda p, t: uvflat.fixed_boundary_map(p, t, weights="bogus"), r"unknown weights 'bogus'; use one of .*mean_value.*"),
+        (lambda p, t: uvflat.fixed_boundary_map(p, t, lambda_=2.0), r"lambda_ and mu apply to weights='intrinsic' only.*"),
+        (lambda p, t: uvflat.mesh_info(p[:, :2], t), r"positions must have shape \(k, 3\), not \(131, 2\)"),
+        (lambda p, t: uvflat.mesh_info(p, t.astype(float)), r"triangles must hold integers, not float64"),
+        (lambda p, t: uvflat.natural_conformal_map(p, t, pins=(3, 4)), r"pins must be .*"),
+        (lambda p, t: uvflat.natural_conformal_map(p, t, progress=42), r"progress must be callable or None, not int"),
+        (lambda p, t: uvflat.metrics(p, t, np.zeros((131, 2)), t[:5]), r"uv_triangles has 5 rows but triangles has 248"),
+    ],
+)
+def test_invalid_arguments_raise_invalid_argument(call, message):
+    p, t = load_mesh("disk_cat_head.obj")
+    with pytest.raises(uvflat.InvalidArgument) as caught:
+        call(p, t)
+    assert caught.value.status == uvflat.Status.INVALID_ARGUMENT
+    assert re.fullmatch(message, caught.value.message), caught.value.message
+
+
+def test_an_overflowing_solve_raises_numerical_failure():
+    p, t = load_mesh("disk_cat_head.obj")
+    with pytest.raises(uvflat.NumericalFailure) as caught:
+        uvflat.intrinsic(p, t, lambda_=1e308, mu=1e308)
+    assert caught.value.status == uvflat.Status.NUMERICAL_FAILURE
+    assert caught.value.message.startswith("numerical failure: ")
+    assert isinstance(caught.value, ArithmeticError)
+
+
+def test_every_status_maps_to_its_exception_class():
+    expected = {
+        1: uvflat.InvalidArgument,
+        2: uvflat.InvalidMesh,
+        3: uvflat.UnsupportedTopology,
+        4: uvflat.NumericalFailure,
+        5: uvflat.Cancelled,
+        6: uvflat.NotImplemented,
+        7: uvflat.InternalError,
+        8: uvflat.IoError,
+    }
+    assert set(expected) == {s.value for s in uvflat.Status} - {0}
+    for status, cls in expected.items():
+        error = _errors.error_for_status(status, f"message {status}")
+        assert type(error) is cls and isinstance(error, uvflat.Error)
+        assert error.status == status == cls.default_status and error.message == f"message {status}"
+    unknown = _errors.error_for_status(42, "?")
+    assert type(unknown) is uvflat.InternalError and "unknown uvflat status 42" in unknown.message
+    assert issubclass(uvflat.NotImplemented, NotImplementedError)
+    assert issubclass(uvflat.InternalError, RuntimeError)
+    # NOT_IMPLEMENTED and INTERNAL_ERROR have no trigger in this C API yet: check that a status
+    # the library returns goes through the same path, with the thread's message
+    status = _library.library().uvf_mesh_info(None, 0, None, 0, ctypes.byref(_library.UvfMeshInfo()))
+    assert status == uvflat.Status.INVALID_MESH
+    with pytest.raises(uvflat.InvalidMesh, match="^the mesh has no triangles$"):
+        _api._check(status)
+
+
+# --- unreferenced vertices --------------------------------------------------------------------
+
+UNREFERENCED = [0, 1, 50, 84, 85]  # bad_unreferenced_vertices.obj: 1-based 1, 2, 51 and the last two
+
+
+@pytest.mark.parametrize(
+    "function",
+    [uvflat.tutte, uvflat.floater, uvflat.authalic, uvflat.conformal, uvflat.mean_value, uvflat.intrinsic, uvflat.natural_conformal_map],
+    ids=lambda f: f.__name__,
+)
+def test_unreferenced_vertices_get_nan(function):
+    p, t = load_mesh("bad_unreferenced_vertices.obj")
+    uv = function(p, t)
+    mask = referenced_mask(len(p), t)
+    assert sorted(np.flatnonzero(~mask)) == UNREFERENCED
+    assert np.isnan(uv[~mask]).all()
+    assert np.isfinite(uv[mask]).all()
+    assert uvflat.metrics(p, t, uv).flipped == 0  # NaN rows that no triangle uses are fine
+
+
+# --- progress and cancellation ----------------------------------------------------------------
+
+
+@pytest.mark.parametrize("function", [uvflat.mean_value, uvflat.natural_conformal_map], ids=lambda f: f.__name__)
+def test_progress_is_reported_from_zero_to_one(function):
+    p, t = canonical("disk_three_peaks.obj")
+    fractions = []
+    uv = function(p, t, progress=fractions.append)  # returns None: go on
+    assert len(fractions) >= 2 and fractions[-1] == 1.0
+    assert all(0.0 <= f <= 1.0 for f in fractions) and fractions == sorted(fractions)
+    np.testing.assert_array_equal(uv, function(p, t))
+    assert function(p, t, progress=lambda f: True).tolist() == uv.tolist()
+
+
+@pytest.mark.parametrize("function", [uvflat.floater, uvflat.natural_conformal_map], ids=lambda f: f.__name__)
+@pytest.mark.parametrize("stop_at", [0.0, 0.25, 0.9])
+def test_returning_false_cancels(function, stop_at):
+    p, t = canonical("disk_three_peaks.obj")
+    seen = []
+
+    def progress(fraction):
+        seen.append(fraction)
+        return fraction < stop_at
+
+    with pytest.raises(uvflat.Cancelled) as caught:
+        function(p, t, progress=progress)
+    assert caught.value.status == uvflat.Status.CANCELLED
+    assert caught.value.message == "cancelled by the progress callback"
+    assert seen and seen[-1] >= stop_at and all(f < stop_at for f in seen[:-1])
+    assert np.isfinite(function(p, t)).all()  # the next call is unaffected
+
+
+@pytest.mark.parametrize("function", [uvflat.conformal, uvflat.natural_conformal_map], ids=lambda f: f.__name__)
+def test_an_exception_in_the_callback_cancels_and_is_reraised(function):
+    p, t = canonical("disk_three_peaks.obj")
+    calls = []
+
+    class Boom(Exception):
+        pass
+
+    def progress(fraction):
+        calls.append(fraction)
+        if fraction > 0.1:
+            raise Boom(f"stop at {fraction}")
+
+    with pytest.raises(Boom, match="stop at"):
+        function(p, t, progress=progress)
+    assert len([f for f in calls if f > 0.1]) == 1  # not called again after raising
+    def interrupt(fraction):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        function(p, t, progress=interrupt)
+    assert np.isfinite(function(p, t, progress=lambda f: None)).all()
+
+
+# --- input conversion -------------------------------------------------------------------------
+
+
+def test_canonical_inputs_are_passed_without_a_copy():
+    p, t = canonical("disk_cat_head.obj")
+    assert _api._as_points(p, 3, "positions") is p
+    assert _api._as_indices(t, "triangles", uvflat.InvalidMesh) is t
+    uv = uvflat.natural_conformal_map(p, t)
+    assert _api._as_points(uv, 2, "uv") is uv
+
+
+def test_converted_inputs_give_the_same_results():
+    p, t = canonical("disk_nefertiti_small.obj")
+    expected = uvflat.natural_conformal_map(p, t)
+    wide = np.zeros((len(p), 7))
+    wide[:, 1:4] = p
+    strided = wide[:, 1:4]  # not contiguous
+    fortran = np.asfortranarray(p)
+    assert not strided.flags.c_contiguous and not fortran.flags.c_contiguous
+    variants = [
+        (strided, t),
+        (fortran, t),
+        (p, t.astype(np.int64)),
+        (p, t.astype(np.int32)),
+        (p, t.astype(np.uint64)),
+        (p, np.asfortranarray(t.astype(np.int16))),
+        (p.tolist(), t.tolist()),
+        (p, t[::-1][::-1]),
+    ]
+    for positions, triangles in variants:
+        np.testing.assert_array_equal(uvflat.natural_conformal_map(positions, triangles), expected)
+    # float32 positions are widened exactly: same result as float64 positions of the same values
+    p32 = p.astype(np.float32)
+    np.testing.assert_array_equal(
+        uvflat.natural_conformal_map(p32, t.astype(np.int64)), uvflat.natural_conformal_map(p32.astype(np.float64), t)
+    )
+    # a strided uv array in metrics
+    uv_wide = np.zeros((len(p), 4))
+    uv_wide[:, ::2] = expected
+    assert uvflat.metrics(p, t, uv_wide[:, ::2]) == uvflat.metrics(p, t, expected)
+
+
+def test_inputs_are_not_modified_and_may_be_read_only():
+    p, t = canonical("disk_cat_head.obj")
+    p.setflags(write=False)
+    t.setflags(write=False)
+    p_before, t_before = p.copy(), t.copy()
+    uv = uvflat.mean_value(p, t, boundary="square")
+    uvflat.metrics(p, t, uv)
+    np.testing.assert_array_equal(p, p_before)
+    np.testing.assert_array_equal(t, t_before)
+
+
+# --- threads and the GIL ----------------------------------------------------------------------
+
+
+def test_four_threads_get_the_single_threaded_results_and_their_own_errors():
+    jobs = [
+        ("disk_three_peaks.obj", uvflat.natural_conformal_map),
+        ("disk_mushroom.obj", uvflat.mean_value),
+        ("disk_cow_cut.obj", uvflat.natural_conformal_map),
+        ("holes_head.obj", uvflat.floater),
+    ]
+    bad = [name for name, _ in BAD_MESHES[:4]]
+    meshes = {name: canonical(name) for name, _ in jobs}
+    expected = {name: function(*meshes[name]) for name, function in jobs}
+    expected_errors = {}
+    for name in bad:
+        with pytest.raises(uvflat.InvalidMesh) as caught:
+            uvflat.mesh_info(*load_mesh(name))
+        expected_errors[name] = caught.value.message
+    results, failures = {}, []
+    barrier = threading.Barrier(4)
+
+    def work(k: int) -> None:
+        try:
+            name, function = jobs[k]
+            barrier.wait()
+            for round_ in range(3):
+                uv = function(*meshes[name])
+                np.testing.assert_array_equal(uv, expected[name])
+                with pytest.raises(uvflat.InvalidMesh) as caught:
+                    uvflat.natural_conformal_map(*load_mesh(bad[k]))
+                assert caught.value.message == expected_errors[bad[k]]
+            results[k] = uv
+        except BaseException as e:  # noqa: B902 - reported in the main thread
+            failures.append((k, e))
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert not failures, failures
+    assert sorted(results) == [0, 1, 2, 3]
+
+
+def test_the_gil_is_released_during_a_call():
+    """ctypes releases the GIL around a CDLL call: another Python thread keeps running while
+    uvflat computes. If the GIL were held, no tick could land inside the call."""
+    p, t = canonical("disk_camelhead.obj")
+    window = {}
+
+    def unwrap() -> None:
+        window["start"] = time.perf_counter()
+        uvflat.natural_conformal_map(p, t)
+        window["end"] = time.perf_counter()
+
+    ticks = []
+    worker = threading.Thread(target=unwrap)
+    worker.start()
+    while worker.is_alive():
+        ticks.append(time.perf_counter())
+        time.sleep(0.001)
+    worker.join()
+    start, end = window["start"], window["end"]
+    inside = [x for x in ticks if start < x < end]
+    assert len(inside) >= 5, (end - start, len(inside))
+    gaps = np.diff([start, *inside, end])
+    assert gaps.max() < 0.5 * (end - start), (end - start, gaps.max())
