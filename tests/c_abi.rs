@@ -55,13 +55,14 @@ fn header_compiles_as_c99_and_cpp17_without_warnings() {
     }
 }
 
-#[test]
-fn c_program_unwraps_and_gets_documented_errors() {
-    let lib = compiler::library_dir();
+/// Builds `tests/c/smoke.c` (with `extra` compiler flags) against the freshly built
+/// `libuvflat.so`, runs it, and checks it reports success.
+fn build_and_run_c_suite(name: &str, extra: &[&str]) {
+    let lib = compiler::link_dir();
     assert!(lib.join("libuvflat.so").exists(), "no libuvflat.so in {}", lib.display());
-    let exe = scratch_dir().join(format!("smoke-{}", std::process::id()));
+    let exe = scratch_dir().join(format!("{name}-{}", std::process::id()));
     let mut command = compiler::compiler(false, "c99");
-    command.args(["-Wall", "-Wextra", "-Werror"]).arg("-I").arg(Path::new(ROOT).join("include"));
+    command.args(["-Wall", "-Wextra", "-pedantic", "-Werror"]).args(extra).arg("-I").arg(Path::new(ROOT).join("include"));
     command.arg("-o").arg(&exe).arg(Path::new(ROOT).join("tests/c/smoke.c"));
     command.arg(format!("-L{}", lib.display())).arg(format!("-Wl,-rpath,{}", lib.display()));
     command.args(["-luvflat", "-lm"]);
@@ -70,4 +71,16 @@ fn c_program_unwraps_and_gets_documented_errors() {
     let _ = std::fs::remove_file(&exe);
     let stdout = output.unwrap_or_else(|e| panic!("{e}"));
     assert!(stdout.contains("all C checks passed"), "{stdout}");
+}
+
+#[test]
+fn c_program_unwraps_and_gets_documented_errors() {
+    build_and_run_c_suite("smoke", &[]);
+}
+
+/// The C side under AddressSanitizer and UndefinedBehaviorSanitizer: catches out-of-bounds
+/// writes by the library into the caller's arrays and misuse of the header's types.
+#[test]
+fn c_program_is_clean_under_address_and_undefined_sanitizers() {
+    build_and_run_c_suite("smoke-asan", &["-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer"]);
 }

@@ -25,7 +25,7 @@ fn openmesh_round_trip_of_every_shared_mesh() {
         eprintln!("skipped: {INSTALL_HINT}");
         return;
     }
-    let lib = compiler::library_dir();
+    let lib = compiler::link_dir();
     let dir = compiler::target_dir().join("openmesh");
     std::fs::create_dir_all(&dir).expect("create target/openmesh");
     let exe = dir.join(format!("roundtrip-{}", std::process::id()));

@@ -43,6 +43,79 @@ static int cancel_at_half(void *user, double fraction) {
     return fraction >= 0.5;
 }
 
+/* uvf_boundary_loops and uvf_triangle_components, including undersized outputs. */
+static void check_topology_queries(const double *positions, size_t nv, const uint32_t *triangles, size_t nt) {
+    static uint32_t loop_vertices[4 * N], offsets[2], components[2 * (N - 1) * (N - 1)];
+    size_t i;
+    UvfStatus status = uvf_boundary_loops(positions, nv, triangles, nt, loop_vertices, 4 * (N - 1) - 1, offsets, 2);
+    check(status == UVF_INVALID_ARGUMENT, "boundary loops: too small vertex capacity is rejected");
+    offsets[1] = 12345;
+    status = uvf_boundary_loops(positions, nv, triangles, nt, loop_vertices, 4 * (N - 1), offsets, 1);
+    check(status == UVF_INVALID_ARGUMENT && offsets[1] == 12345, "boundary loops: too small offsets capacity");
+    status = uvf_boundary_loops(positions, nv, triangles, nt, loop_vertices, 4 * (N - 1), offsets, 2);
+    check(status == UVF_OK && offsets[0] == 0 && offsets[1] == 4 * (N - 1), "grid has one loop of 4(N-1) vertices");
+    for (i = 0; i < 4 * (N - 1); i++) {
+        uint32_t v = loop_vertices[i], x = v % N, y = v / N;
+        check(x == 0 || y == 0 || x == N - 1 || y == N - 1, "loop vertices lie on the grid border");
+    }
+    status = uvf_triangle_components(positions, nv, triangles, nt, components);
+    check(status == UVF_OK, "triangle components");
+    for (i = 0; i < nt; i++) check(components[i] == 0, "grid is one component");
+    status = uvf_triangle_components(positions, nv, triangles, nt, NULL);
+    check(status == UVF_INVALID_ARGUMENT, "NULL component output is rejected");
+}
+
+/* Versioned options and zero/overflowing counts. */
+static void check_options_and_counts(const double *positions, size_t nv, const uint32_t *triangles, size_t nt,
+                                     double *uv) {
+    UvfFixedBoundaryOptions fixed;
+    UvfNaturalConformalOptions conformal;
+    UvfMeshInfo info;
+    UvfStatus status;
+    uvf_fixed_boundary_options_default(&fixed);
+    check(fixed.struct_size == sizeof fixed && fixed.weights == UVF_WEIGHTS_MEAN_VALUE, "fixed defaults");
+    fixed.struct_size = 4;
+    status = uvf_fixed_boundary_map(positions, nv, triangles, nt, &fixed, uv);
+    check(status == UVF_INVALID_ARGUMENT && strstr(uvf_last_error_message(), "struct_size") != NULL,
+          "undersized options struct is rejected");
+    uvf_natural_conformal_options_default(&conformal);
+    check(conformal.struct_size == sizeof conformal && conformal.pin_count == 0, "conformal defaults");
+    conformal.pin_count = 2;
+    conformal.pin_vertices[0] = 0;
+    conformal.pin_vertices[1] = 0;
+    status = uvf_natural_conformal_map(positions, nv, triangles, nt, &conformal, uv);
+    check(status == UVF_INVALID_ARGUMENT, "the same vertex pinned twice is rejected");
+    status = uvf_mesh_info(positions, nv, triangles, 0, &info);
+    check(status == UVF_INVALID_MESH, "zero triangles: empty mesh");
+    status = uvf_mesh_info(positions, (size_t)-1 / 2, triangles, nt, &info);
+    check(status == UVF_INVALID_ARGUMENT, "vertex count whose byte size overflows");
+    status = uvf_mesh_info(positions, nv, triangles, nt, NULL);
+    check(status == UVF_INVALID_ARGUMENT, "NULL info output");
+}
+
+/* uvf_metrics with per-corner UVs: every corner its own UV, same layout. */
+static void check_corner_metrics(const double *positions, size_t nv, const uint32_t *triangles, size_t nt,
+                                 const double *uv) {
+    static double corner_uv[2 * 6 * (N - 1) * (N - 1)];
+    static uint32_t corner_index[6 * (N - 1) * (N - 1)];
+    UvfMetrics per_vertex, per_corner;
+    size_t c;
+    for (c = 0; c < 3 * nt; c++) {
+        corner_uv[2 * c] = uv[2 * triangles[c]];
+        corner_uv[2 * c + 1] = uv[2 * triangles[c] + 1];
+        corner_index[c] = (uint32_t)c;
+    }
+    check(uvf_metrics(positions, nv, triangles, nt, uv, nv, NULL, &per_vertex) == UVF_OK, "per-vertex metrics");
+    check(uvf_metrics(positions, nv, triangles, nt, corner_uv, 3 * nt, corner_index, &per_corner) == UVF_OK,
+          "per-corner metrics");
+    check(per_vertex.stretch_l2 == per_corner.stretch_l2 && per_vertex.flipped == per_corner.flipped,
+          "per-corner and per-vertex metrics agree");
+    /* Every corner split: every edge is a UV boundary edge, neighbours' edges overlap but
+     * do not cross properly. */
+    check(uvf_metrics(positions, nv, triangles, nt, uv, nv - 1, NULL, &per_vertex) == UVF_INVALID_ARGUMENT,
+          "per-vertex UV count must match the vertex count");
+}
+
 int main(void) {
     static double positions[3 * N * N];
     static uint32_t triangles[6 * (N - 1) * (N - 1)];
@@ -109,6 +182,10 @@ int main(void) {
 
     status = uvf_natural_conformal_map(positions, nv, triangles, nt, NULL, uv);
     check(status == UVF_OK && uvf_last_error_message()[0] == '\0', "success clears the message");
+
+    check_topology_queries(positions, nv, triangles, nt);
+    check_options_and_counts(positions, nv, triangles, nt, uv);
+    check_corner_metrics(positions, nv, triangles, nt, uv);
 
     if (failures == 0) printf("all C checks passed\n");
     return failures == 0 ? 0 : 1;

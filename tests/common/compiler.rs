@@ -24,9 +24,30 @@ pub fn target_dir() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/target")))
 }
 
-/// The directory holding the `libuvflat.so`/`.a` built together with the running test.
+/// The directory holding the `libuvflat.so`/`.a` built together with the running test:
+/// `<target>/<profile>/deps/` or, where cargo only uplifted them, `<target>/<profile>/`.
 pub fn library_dir() -> PathBuf {
-    std::env::current_exe().ok().and_then(|exe| Some(exe.parent()?.to_path_buf())).unwrap_or_else(target_dir)
+    let deps = std::env::current_exe().ok().and_then(|exe| Some(exe.parent()?.to_path_buf()));
+    let candidates = deps.iter().flat_map(|d| [d.clone(), d.parent().map(|p| p.to_path_buf()).unwrap_or_default()]);
+    candidates
+        .into_iter()
+        .find(|d| d.join("libuvflat.so").exists() && d.join("libuvflat.a").exists())
+        .unwrap_or_else(|| target_dir().join("release"))
+}
+
+/// A directory to link test programs against (`-L`, `-rpath`): links `libuvflat.so` and its
+/// SONAME `libuvflat.so.0` (set by build.rs) to the library cargo built for this test. Cargo
+/// leaves only the unversioned name, which the dynamic loader would not find by SONAME.
+pub fn link_dir() -> PathBuf {
+    let built = library_dir().join("libuvflat.so");
+    let dir = target_dir().join(format!("link-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("create the link directory");
+    for name in ["libuvflat.so", "libuvflat.so.0"] {
+        let link = dir.join(name);
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink(&built, &link).expect("symlink libuvflat.so");
+    }
+    dir
 }
 
 /// A compiler command (C or C++) for the language standard `std`, optimised, with `cc`'s
