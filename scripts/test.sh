@@ -24,3 +24,6 @@ if [ ! -d ../shared/meshes ]; then
 fi
 
 cargo test --release --locked "$@"
+
+# Python binding (ctypes + numpy, in a venv under target/) and its pytest suite.
+scripts/python_tests.sh
