@@ -71,6 +71,20 @@ struct Progress {
     }
 };
 
+/// Runs a per-vertex UV method `method(positions, nv, triangles, nt, &options, uv_out)` with
+/// the C options `o` and the C++ progress callback; returns the UVs (2 per vertex).
+template <class COptions, class Method>
+std::vector<double> run_uv_method(Method method, COptions &o, const std::function<bool(double)> &callback,
+                                  const double *positions, std::size_t vertex_count, const std::uint32_t *triangles,
+                                  std::size_t triangle_count) {
+    Progress progress;
+    progress.callback = &callback;
+    progress.install(o);
+    std::vector<double> uv(2 * vertex_count);
+    progress.finish(method(positions, vertex_count, triangles, triangle_count, &o, uv.data()));
+    return uv;
+}
+
 inline std::size_t count_of(const std::vector<double> &flat, std::size_t per, const char *what) {
     if (flat.size() % per != 0) {
         throw Error(UVF_INVALID_ARGUMENT, std::string(what) + " must hold " + std::to_string(per) +
@@ -180,12 +194,8 @@ inline std::vector<double> fixed_boundary_map(const double *positions, std::size
     o.given_count = options.given_vertices.size();
     o.given_vertices = options.given_vertices.data();
     o.given_uv = options.given_uv.data();
-    detail::Progress progress;
-    progress.callback = &options.progress;
-    progress.install(o);
-    std::vector<double> uv(2 * vertex_count);
-    progress.finish(uvf_fixed_boundary_map(positions, vertex_count, triangles, triangle_count, &o, uv.data()));
-    return uv;
+    return detail::run_uv_method(uvf_fixed_boundary_map, o, options.progress, positions, vertex_count, triangles,
+                                 triangle_count);
 }
 
 inline std::vector<double> fixed_boundary_map(const std::vector<double> &positions,
@@ -210,12 +220,8 @@ inline std::vector<double> natural_conformal_map(const double *positions, std::s
             o.pin_uv[2 * k + 1] = options.pins[k].v;
         }
     }
-    detail::Progress progress;
-    progress.callback = &options.progress;
-    progress.install(o);
-    std::vector<double> uv(2 * vertex_count);
-    progress.finish(uvf_natural_conformal_map(positions, vertex_count, triangles, triangle_count, &o, uv.data()));
-    return uv;
+    return detail::run_uv_method(uvf_natural_conformal_map, o, options.progress, positions, vertex_count, triangles,
+                                 triangle_count);
 }
 
 inline std::vector<double> natural_conformal_map(const std::vector<double> &positions,

@@ -135,6 +135,35 @@ void check_mesh(const std::string &path, const std::string &out_dir) {
     check_method(name, mesh, a, "natural-conformal", out_dir, false);
 }
 
+/// The wrapper's progress plumbing: false cancels with UVF_CANCELLED, an exception thrown by
+/// the callback comes back out unchanged, and the callback sees fractions up to 1.
+void check_wrapper_progress(const std::string &path) {
+    Mesh mesh;
+    if (!OpenMesh::IO::read_mesh(mesh, path)) return fail(path, "cannot read");
+    const Arrays a = flat_arrays(mesh);
+    uvflat::NaturalConformalOptions options;
+    double last = 0;
+    options.progress = [&](double f) { last = f; return true; };
+    uvflat::natural_conformal_map(a.positions, a.triangles, options);
+    if (last != 1.0) fail(path, "progress did not reach 1");
+    options.progress = [](double f) { return f < 0.5; };
+    try {
+        uvflat::natural_conformal_map(a.positions, a.triangles, options);
+        fail(path, "cancelling did not stop the computation");
+    } catch (const uvflat::Error &e) {
+        if (e.status() != UVF_CANCELLED) fail(path, "cancelling gave the wrong status");
+    }
+    struct Stop {};
+    uvflat::FixedBoundaryOptions fixed;
+    fixed.progress = [](double) -> bool { throw Stop{}; };
+    try {
+        uvflat::fixed_boundary_map(a.positions, a.triangles, fixed);
+        fail(path, "a throwing callback did not stop the computation");
+    } catch (const Stop &) {
+    }
+    std::printf("wrapper progress and cancellation: ok\n");
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -143,6 +172,9 @@ int main(int argc, char **argv) {
         return 2;
     }
     OpenMesh::IO::IOManager(); // make sure the OBJ reader/writer are registered
+    for (int i = 2; i < argc; ++i) {
+        if (base_name(argv[i]) == "disk_nefertiti_small.obj") check_wrapper_progress(argv[i]);
+    }
     for (int i = 2; i < argc; ++i) check_mesh(argv[i], argv[1]);
     std::printf("%d failure(s)\n", failures);
     return failures == 0 ? 0 : 1;
