@@ -57,6 +57,7 @@ fn openmesh_round_trip_of_every_shared_mesh() {
     let stdout = result.unwrap_or_else(|e| panic!("{e}"));
     println!("{stdout}");
     assert!(stdout.contains("0 failure(s)"), "{stdout}");
+    assert!(stdout.contains("wrapper progress and cancellation: ok"), "{stdout}");
     let unwrapped = stdout.lines().filter(|l| l.contains(" mean-value: flipped 0")).count();
     assert!(unwrapped >= 18, "only {unwrapped} meshes were unwrapped:\n{stdout}");
 }
