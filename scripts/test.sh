@@ -23,7 +23,7 @@ if [ ! -d ../shared/meshes ]; then
     exit 1
 fi
 
-cargo test --release --locked "$@"
+cargo test --release --locked --no-fail-fast "$@"
 
 # Python binding (ctypes + numpy, in a venv under target/) and its pytest suite.
 scripts/python_tests.sh

@@ -39,15 +39,19 @@ pub fn library_dir() -> PathBuf {
 /// SONAME `libuvflat.so.0` (set by build.rs) to the library cargo built for this test. Cargo
 /// leaves only the unversioned name, which the dynamic loader would not find by SONAME.
 pub fn link_dir() -> PathBuf {
-    let built = library_dir().join("libuvflat.so");
-    let dir = target_dir().join(format!("link-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("create the link directory");
-    for name in ["libuvflat.so", "libuvflat.so.0"] {
-        let link = dir.join(name);
-        let _ = std::fs::remove_file(&link);
-        std::os::unix::fs::symlink(&built, &link).expect("symlink libuvflat.so");
-    }
-    dir
+    static DIR: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        let built = library_dir().join("libuvflat.so");
+        let dir = target_dir().join(format!("link-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("create the link directory");
+        for name in ["libuvflat.so", "libuvflat.so.0"] {
+            let link = dir.join(name);
+            let _ = std::fs::remove_file(&link);
+            std::os::unix::fs::symlink(&built, &link).expect("symlink libuvflat.so");
+        }
+        dir
+    })
+    .clone()
 }
 
 /// A compiler command (C or C++) for the language standard `std`, optimised, with `cc`'s
