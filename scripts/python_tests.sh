@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Tests of the Python binding (bindings/python, tests/python): creates (or reuses) a venv in
-# target/python-venv, installs numpy, pytest and the binding into it, builds the library with
+# target/python-venv, installs numpy, pytest, bpy 4.5 and the binding into it, builds the library with
 # cargo, and runs pytest with UVFLAT_LIBRARY pointing at the freshly built libuvflat.so.
 # Extra arguments go to pytest. Set PYTHON to choose the interpreter (default python3).
 set -euo pipefail
@@ -35,6 +35,13 @@ fi
 py="$venv/bin/python"
 
 "$py" -m pip install -q --disable-pip-version-check numpy pytest "setuptools>=61" wheel
+# bpy (Blender 4.5 as a Python module) for the add-on tests (tests/python/test_blender_addon.py);
+# its wheels exist for CPython 3.11 only. pip returns at once when it is already installed.
+if "$py" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))'; then
+    "$py" -m pip install -q --disable-pip-version-check "bpy==4.5.*"
+else
+    echo "python_tests: bpy 4.5 needs Python 3.11 (set PYTHON=python3.11); the Blender add-on tests will be skipped (and fail under CI=true)" >&2
+fi
 # The binding is reinstalled every run so the tests see the working tree's version.
 "$py" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps --force-reinstall ./bindings/python
 

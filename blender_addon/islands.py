@@ -1,0 +1,257 @@
+"""Splitting a face selection into UV islands and laying islands out; numpy only, no bpy.
+
+Everything here works on flat arrays read from a Blender mesh with ``foreach_get``:
+
+- ``loop_vert``, ``loop_edge``: vertex and edge of every loop (face corner);
+- ``poly_start``, ``poly_total``: first loop and loop count of every polygon (Blender keeps a
+  polygon's loops contiguous and in polygon order);
+- ``face_selected``: polygons to unwrap (selected and not hidden);
+- ``edge_seam``: edges marked as seams;
+- ``tri_loops``, ``tri_poly``: Blender's own tessellation (``mesh.loop_triangles``), three loop
+  indices per triangle, counter-clockwise like their polygon.
+
+An island is a set of selected polygons connected through *inner* edges: edges that are not
+seams, are shared by exactly two polygons of the mesh, both selected, and traversed in
+opposite directions by them (so a flipped neighbour starts a new island). Every other edge of
+a selected polygon is a cut: the selection border, seams, non-manifold and inconsistently
+oriented edges.
+
+A mesh vertex may become several island vertices: the loops around it are joined only across
+inner edges, so a seam that ends inside an island slits it open, and two fans touching at a
+single vertex are pulled apart. The island vertex of a loop is the connected component of its
+loop in that "same UV" relation, which is exactly what Blender's own unwrap does.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import List, Optional, Tuple
+
+import numpy as np
+
+
+def connected_components(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Root label (the smallest member) of every node 0..n-1 of the undirected graph with edges
+    (a[i], b[i]); hook-and-compress (Shiloach–Vishkin style), all in numpy."""
+    parent = np.arange(n, dtype=np.int64)
+    a = np.asarray(a, dtype=np.int64)
+    b = np.asarray(b, dtype=np.int64)
+    while True:
+        pa, pb = parent[a], parent[b]
+        differ = pa != pb
+        if not differ.any():
+            return parent
+        a, b, pa, pb = a[differ], b[differ], pa[differ], pb[differ]
+        # parent[x] <= x always holds, so hooking the larger root under the smaller one can
+        # never make a cycle; roots are fully compressed below, so pa, pb are roots.
+        np.minimum.at(parent, np.maximum(pa, pb), np.minimum(pa, pb))
+        while True:
+            grand = parent[parent]
+            if np.array_equal(grand, parent):
+                break
+            parent = grand
+
+
+@dataclasses.dataclass
+class Island:
+    """One island: a triangle mesh of its own, and where its vertices come from."""
+
+    #: (k, 3) float64 positions of the island's vertices.
+    positions: np.ndarray
+    #: (m, 3) uint32 island-local vertex indices, counter-clockwise.
+    triangles: np.ndarray
+    #: Mesh polygons of the island.
+    polys: np.ndarray
+    #: Loops of the island's polygons.
+    loops: np.ndarray
+    #: Island-local vertex index of each of ``loops``.
+    loop_vertex: np.ndarray
+
+
+@dataclasses.dataclass
+class Split:
+    """The selection split into islands."""
+
+    islands: List[Island]
+    #: Number of selected polygons.
+    selected_polys: int
+
+
+def split_islands(
+    positions: np.ndarray,
+    loop_vert: np.ndarray,
+    loop_edge: np.ndarray,
+    poly_start: np.ndarray,
+    poly_total: np.ndarray,
+    face_selected: np.ndarray,
+    edge_seam: np.ndarray,
+    tri_loops: np.ndarray,
+    tri_poly: np.ndarray,
+) -> Split:
+    """Splits the selected polygons into islands (see the module docstring)."""
+    n_loops = len(loop_vert)
+    n_polys = len(poly_start)
+    n_edges = len(edge_seam)
+    loop_vert = np.asarray(loop_vert, dtype=np.int64)
+    loop_edge = np.asarray(loop_edge, dtype=np.int64)
+    poly_start = np.asarray(poly_start, dtype=np.int64)
+    poly_total = np.asarray(poly_total, dtype=np.int64)
+    face_selected = np.asarray(face_selected, dtype=bool)
+
+    loop_poly = np.repeat(np.arange(n_polys, dtype=np.int64), poly_total)
+    if len(loop_poly) != n_loops or (n_polys and not np.array_equal(poly_start, np.cumsum(poly_total) - poly_total)):
+        # Blender always stores a polygon's loops contiguously in polygon order.
+        raise ValueError("polygon loops are not contiguous in polygon order")
+    loop_next = np.arange(1, n_loops + 1, dtype=np.int64)
+    if n_polys:
+        loop_next[poly_start + poly_total - 1] = poly_start
+
+    selected_loop = face_selected[loop_poly]
+    uses = np.bincount(loop_edge, minlength=n_edges)
+    selected_uses = np.bincount(loop_edge[selected_loop], minlength=n_edges)
+    candidate = (uses == 2) & (selected_uses == 2) & ~np.asarray(edge_seam, dtype=bool)
+
+    # The two loops of every candidate edge, paired by sorting on the edge.
+    shared = np.flatnonzero(selected_loop & candidate[loop_edge])
+    shared = shared[np.argsort(loop_edge[shared], kind="stable")].reshape(-1, 2)
+    l1, l2 = shared[:, 0], shared[:, 1]
+    opposite = (loop_vert[l1] == loop_vert[loop_next[l2]]) & (loop_poly[l1] != loop_poly[l2])
+    l1, l2 = l1[opposite], l2[opposite]
+
+    # Loops around one vertex join across inner edges; polygons join across inner edges.
+    corner = connected_components(
+        n_loops, np.concatenate([l1, loop_next[l1]]), np.concatenate([loop_next[l2], l2])
+    )
+    poly_root = connected_components(n_polys, loop_poly[l1], loop_poly[l2])
+
+    selected_polys = np.flatnonzero(face_selected)
+    _, island_of_poly = np.unique(poly_root[selected_polys], return_inverse=True)
+    island_of_poly = island_of_poly.reshape(-1)
+    n_islands = int(island_of_poly.max()) + 1 if len(selected_polys) else 0
+
+    poly_island = np.full(n_polys, -1, dtype=np.int64)
+    poly_island[selected_polys] = island_of_poly
+    tri_loops = np.asarray(tri_loops, dtype=np.int64).reshape(-1, 3)
+    tri_poly = np.asarray(tri_poly, dtype=np.int64)
+    tri_island = poly_island[tri_poly]
+    keep = tri_island >= 0
+    tri_loops, tri_island = tri_loops[keep], tri_island[keep]
+    tri_order = np.argsort(tri_island, kind="stable")
+    tri_bounds = np.searchsorted(tri_island[tri_order], np.arange(n_islands + 1))
+
+    island_loops = np.flatnonzero(selected_loop)
+    loop_island = poly_island[loop_poly[island_loops]]
+    loop_order = np.argsort(loop_island, kind="stable")
+    island_loops = island_loops[loop_order]
+    loop_bounds = np.searchsorted(loop_island[loop_order], np.arange(n_islands + 1))
+
+    poly_order = selected_polys[np.argsort(island_of_poly, kind="stable")]
+    poly_bounds = np.searchsorted(np.sort(island_of_poly), np.arange(n_islands + 1))
+
+    islands = []
+    for i in range(n_islands):
+        loops = island_loops[loop_bounds[i] : loop_bounds[i + 1]]
+        roots, loop_vertex = np.unique(corner[loops], return_inverse=True)
+        # Every root is a loop of the island (the smallest of its class), so it names a vertex.
+        tris = tri_loops[tri_order[tri_bounds[i] : tri_bounds[i + 1]]]
+        local = np.searchsorted(roots, corner[tris])
+        islands.append(
+            Island(
+                positions=np.ascontiguousarray(positions[loop_vert[roots]], dtype=np.float64),
+                triangles=np.ascontiguousarray(local, dtype=np.uint32),
+                polys=poly_order[poly_bounds[i] : poly_bounds[i + 1]],
+                loops=loops,
+                loop_vertex=loop_vertex.reshape(-1),
+            )
+        )
+    return Split(islands=islands, selected_polys=len(selected_polys))
+
+
+def triangle_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Unsigned areas of triangles of 2D or 3D points."""
+    p = np.asarray(points, dtype=np.float64)
+    t = np.asarray(triangles, dtype=np.int64)
+    e1 = p[t[:, 1]] - p[t[:, 0]]
+    e2 = p[t[:, 2]] - p[t[:, 0]]
+    if p.shape[1] == 2:
+        return 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    return 0.5 * np.linalg.norm(np.cross(e1, e2), axis=1)
+
+
+def farthest_pair(points: np.ndarray) -> Tuple[int, int]:
+    """Indices of the two points farthest apart: exact up to 2000 points, otherwise the usual
+    double sweep (farthest from the first, then farthest from that one)."""
+    p = np.asarray(points, dtype=np.float64)
+    if len(p) <= 2000:
+        d = ((p[:, None, :] - p[None, :, :]) ** 2).sum(axis=2)
+        i, j = np.unravel_index(int(np.argmax(d)), d.shape)
+        return int(i), int(j)
+    i = int(np.argmax(((p - p[0]) ** 2).sum(axis=1)))
+    j = int(np.argmax(((p - p[i]) ** 2).sum(axis=1)))
+    return i, j
+
+
+def similarity_fit(source: np.ndarray, target: np.ndarray) -> Tuple[complex, complex]:
+    """The similarity z -> a·z + b (rotation, uniform scale, translation; complex numbers)
+    that maps 2D ``source`` points onto ``target`` in the least-squares sense."""
+    s = source[:, 0] + 1j * source[:, 1]
+    t = target[:, 0] + 1j * target[:, 1]
+    if len(s) == 1:
+        return 1.0 + 0j, complex(t[0] - s[0])
+    sc, tc = s - s.mean(), t - t.mean()
+    denom = float(np.vdot(sc, sc).real)
+    a = complex(np.vdot(sc, tc) / denom) if denom > 0 else 1.0 + 0j
+    return a, complex(t.mean() - a * s.mean())
+
+
+def scale_to_area(uv: np.ndarray, triangles: np.ndarray, area_3d: float) -> np.ndarray:
+    """``uv`` scaled uniformly so that its area equals ``area_3d`` (as Blender does before
+    packing, islands keep their relative sizes)."""
+    area_uv = float(triangle_areas(uv, triangles).sum())
+    if area_uv <= 0 or not np.isfinite(area_uv) or area_3d <= 0:
+        return uv
+    return uv * np.sqrt(area_3d / area_uv)
+
+
+def shelf_layout(sizes: np.ndarray, margin: float) -> Tuple[np.ndarray, float]:
+    """Places boxes of ``sizes`` (k, 2) side by side on shelves (tallest first), rows about as
+    wide as the layout is high, ``margin`` apart (relative to the final unit square).
+
+    Returns (k, 2) lower-left corners and the scale that fits the whole layout into [0, 1]²;
+    boxes never overlap."""
+    sizes = np.asarray(sizes, dtype=np.float64).reshape(-1, 2)
+    k = len(sizes)
+    corners = np.zeros((k, 2))
+    if k == 0:
+        return corners, 1.0
+    total = float((sizes[:, 0] * sizes[:, 1]).sum())
+    gap = margin * np.sqrt(max(total, 1e-300)) * 1.1
+    width = max(float(np.sqrt(total) * 1.1), float(sizes[:, 0].max()))
+    x = y = row_height = 0.0
+    for i in np.argsort(-sizes[:, 1], kind="stable"):
+        w, h = sizes[i]
+        if x > 0 and x + w > width:
+            x, y, row_height = 0.0, y + row_height + gap, 0.0
+        corners[i] = (x + gap, y + gap)
+        x += w + gap
+        row_height = max(row_height, h)
+    extent = max(x, width, y + row_height) + 2 * gap
+    extent = max(extent, float((corners + sizes).max()) + gap)
+    return corners, 1.0 / extent if extent > 0 else 1.0
+
+
+def angle_distortion(positions: np.ndarray, uv: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Per triangle, the mean |UV corner angle − 3D corner angle| in radians."""
+
+    def corner_angles(p: np.ndarray) -> np.ndarray:
+        t = np.asarray(triangles, dtype=np.int64)
+        out = []
+        for k in range(3):
+            a, b, c = p[t[:, k]], p[t[:, (k + 1) % 3]], p[t[:, (k + 2) % 3]]
+            u, v = b - a, c - a
+            nu = np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1)
+            cos = np.einsum("ij,ij->i", u, v) / np.where(nu > 0, nu, 1)
+            out.append(np.arccos(np.clip(cos, -1, 1)))
+        return np.stack(out, axis=1)
+
+    return np.abs(corner_angles(np.asarray(uv, float)) - corner_angles(np.asarray(positions, float))).mean(axis=1)

@@ -1,0 +1,685 @@
+"""Headless tests of the Blender add-on (blender_addon/) with the `bpy` module from PyPI.
+
+The add-on is registered from the source tree and uses the installed `uvflat` binding with
+$UVFLAT_LIBRARY (scripts/python_tests.sh sets both up). Meshes are built with bpy: a grid, a UV
+sphere with seams, disk_nefertiti_small.obj imported with wm.obj_import, a honeycomb of
+hexagons (n-gons), a torus. Every check reads the UVs back per loop and recomputes what it
+asserts itself (islands from UV connectivity, orientation, angle distortion).
+
+Undo: bpy in background mode has no undo stack (`bpy.ops.ed.undo.poll()` is False, as for
+`blender -b`), so `ed.undo` cannot run headless; test_undo uses it when available and otherwise
+checks what undo and redo (F9) rely on: the operator declares REGISTER and UNDO, and
+re-executing it on the same input gives bit-identical UVs.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+from pathlib import Path
+from typing import Dict, List, Sequence, Tuple
+
+import numpy as np
+import pytest
+
+from conftest import IN_CI, REPO, library_file, mesh_path, missing
+
+try:
+    import bpy  # type: ignore[import-not-found]
+    import bmesh  # type: ignore[import-not-found]
+except ImportError:  # pragma: no cover - depends on the machine
+    bpy = None
+
+PICTURES = Path(os.environ.get("UVFLAT_PICTURES", REPO / "target" / "blender-pictures"))
+
+
+@pytest.fixture(scope="module", autouse=True)
+def addon():
+    """The add-on, registered once from the source tree."""
+    if bpy is None:
+        missing(
+            "bpy is not installed: the Blender add-on tests need `pip install 'bpy==4.5.*'` on "
+            "Python 3.11 (scripts/python_tests.sh does it)"
+        )
+    os.environ.setdefault("UVFLAT_LIBRARY", str(library_file()))
+    sys.path.insert(0, str(REPO))
+    import blender_addon
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    blender_addon.register()
+    yield blender_addon
+    blender_addon.unregister()
+    sys.path.remove(str(REPO))
+
+
+@pytest.fixture(autouse=True)
+def empty_scene(addon):
+    if bpy.context.object is not None and bpy.context.object.mode != "OBJECT":
+        bpy.ops.object.mode_set(mode="OBJECT")
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    for me in list(bpy.data.meshes):
+        bpy.data.meshes.remove(me)
+    bpy.context.scene.tool_settings.mesh_select_mode = (False, False, True)
+    yield
+
+
+# --- building and reading meshes ---------------------------------------------------------------
+
+
+def get(collection, name: str, dtype, width: int = 1) -> np.ndarray:
+    out = np.empty(len(collection) * width, dtype=dtype)
+    collection.foreach_get(name, out)
+    return out.reshape(-1, width) if width > 1 else out
+
+
+def object_from(verts: Sequence, faces: Sequence, name: str = "mesh"):
+    me = bpy.data.meshes.new(name)
+    me.from_pydata([tuple(v) for v in verts], [], [tuple(f) for f in faces])
+    me.update()
+    obj = bpy.data.objects.new(name, me)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def grid(n: int = 12, name: str = "grid"):
+    """An n×n quad grid over [-1, 1]², bent so that no unwrap is trivially exact."""
+    xs = np.linspace(-1, 1, n + 1)
+    verts = [(x, y, 0.35 * math.sin(2 * x) * math.cos(1.5 * y) + 0.2 * x * y) for y in xs for x in xs]
+    faces = [(j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i) for j in range(n) for i in range(n)]
+    return object_from(verts, faces, name)
+
+
+def honeycomb(rows: int = 6, cols: int = 7):
+    """Hexagons (6-gons) on a bumpy surface, plus a concave 8-gon at the side."""
+    verts: List[Tuple[float, float, float]] = []
+    index: Dict[Tuple[int, int], int] = {}
+
+    def vertex(p: Tuple[float, float]) -> int:
+        key = (round(p[0] * 1000), round(p[1] * 1000))
+        if key not in index:
+            index[key] = len(verts)
+            verts.append((p[0], p[1], 0.15 * math.sin(p[0]) * math.sin(1.3 * p[1])))
+        return index[key]
+
+    faces = []
+    for r in range(rows):
+        for c in range(cols):
+            cx = c * 1.5
+            cy = r * math.sqrt(3) + (math.sqrt(3) / 2 if c % 2 else 0)
+            faces.append([vertex((cx + math.cos(k * math.pi / 3), cy + math.sin(k * math.pi / 3))) for k in range(6)])
+    # A concave 8-gon (an L shape) below the first column, sharing no edge with the hexagons.
+    l_shape = [(0, -3), (2, -3), (2, -2.5), (0.5, -2.5), (0.5, -1.5), (0, -1.5)]
+    faces.append([vertex(p) for p in l_shape])
+    return object_from(verts, faces, "honeycomb")
+
+
+def uv_sphere_with_seams():
+    """A UV sphere (32 × 16) with seams on two latitude rings and one meridian: three islands
+    (two caps and a band, the band cut open by the meridian)."""
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, radius=1)
+    obj = bpy.context.object
+    me = obj.data
+    co = get(me.vertices, "co", np.float64, 3)
+    ev = get(me.edges, "vertices", np.int64, 2)
+    z0, z1 = co[ev[:, 0], 2], co[ev[:, 1], 2]
+    ring = lambda z: (np.abs(z0 - z) < 1e-4) & (np.abs(z1 - z) < 1e-4)  # noqa: E731
+    zs = np.unique(np.round(co[:, 2], 5))
+    upper, lower = zs[len(zs) * 2 // 3], zs[len(zs) // 3]
+    x0, x1, y0, y1 = co[ev[:, 0], 0], co[ev[:, 1], 0], co[ev[:, 0], 1], co[ev[:, 1], 1]
+    meridian = (np.abs(y0) < 1e-5) & (np.abs(y1) < 1e-5) & (x0 >= -1e-6) & (x1 >= -1e-6)
+    seam = ring(upper) | ring(lower) | meridian
+    me.edges.foreach_set("use_seam", seam)
+    me.update()
+    return obj
+
+
+def set_uvs(obj, rng: np.random.Generator) -> np.ndarray:
+    """Random UVs on every loop (so untouched loops are recognisable); returns them."""
+    me = obj.data
+    if not me.uv_layers:
+        me.uv_layers.new(name="UVMap")
+    uv = rng.random((len(me.loops), 2)).astype(np.float32)
+    me.uv_layers.active.uv.foreach_set("vector", uv.ravel())
+    return uv
+
+
+def set_pins(obj, loops: Sequence[int]) -> None:
+    me = obj.data
+    pin = np.zeros(len(me.loops), dtype=bool)
+    pin[list(loops)] = True
+    me.uv_layers.active.pin.foreach_set("value", pin)
+
+
+def edit(objects, faces_of) -> None:
+    """Enters Edit Mode on `objects` (the first active) with exactly the faces
+    `faces_of(obj)` (a boolean mask over polygons) selected."""
+    bpy.ops.object.select_all(action="DESELECT")
+    for obj in objects:
+        obj.select_set(True)
+        mask = np.asarray(faces_of(obj), dtype=bool)
+        me = obj.data
+        me.polygons.foreach_set("select", mask)
+        verts = np.zeros(len(me.vertices), dtype=bool)
+        loops_vert = get(me.loops, "vertex_index", np.int64)
+        starts, totals = get(me.polygons, "loop_start", np.int64), get(me.polygons, "loop_total", np.int64)
+        for p in np.flatnonzero(mask):
+            verts[loops_vert[starts[p] : starts[p] + totals[p]]] = True
+        me.vertices.foreach_set("select", verts)
+        ev = get(me.edges, "vertices", np.int64, 2)
+        # An edge is selected when one of its faces is (not merely both its vertices).
+        sel_edges = np.zeros(len(me.edges), dtype=bool)
+        loop_edge = get(me.loops, "edge_index", np.int64)
+        for p in np.flatnonzero(mask):
+            sel_edges[loop_edge[starts[p] : starts[p] + totals[p]]] = True
+        me.edges.foreach_set("select", sel_edges)
+        del ev
+        me.update()
+    bpy.context.view_layer.objects.active = objects[0]
+    bpy.ops.object.mode_set(mode="EDIT")
+
+
+def read(obj) -> Dict[str, np.ndarray]:
+    """UVs and the arrays the checks need; leaves Edit Mode first."""
+    if bpy.context.mode != "OBJECT":
+        bpy.ops.object.mode_set(mode="OBJECT")
+    me = obj.data
+    me.calc_loop_triangles()
+    return {
+        "uv": get(me.uv_layers.active.uv, "vector", np.float32, 2).astype(np.float64),
+        "co": get(me.vertices, "co", np.float64, 3),
+        "loop_vert": get(me.loops, "vertex_index", np.int64),
+        "loop_edge": get(me.loops, "edge_index", np.int64),
+        "poly_start": get(me.polygons, "loop_start", np.int64),
+        "poly_total": get(me.polygons, "loop_total", np.int64),
+        "tri_loops": get(me.loop_triangles, "loops", np.int64, 3),
+        "tri_poly": get(me.loop_triangles, "polygon_index", np.int64),
+    }
+
+
+def poly_loops(data: Dict[str, np.ndarray], polys: np.ndarray) -> np.ndarray:
+    s, t = data["poly_start"][polys], data["poly_total"][polys]
+    return np.concatenate([np.arange(a, a + b) for a, b in zip(s, t)]) if len(polys) else np.zeros(0, np.int64)
+
+
+def face_centers(obj) -> np.ndarray:
+    return get(obj.data.polygons, "center", np.float64, 3)
+
+
+# --- what the checks compute -------------------------------------------------------------------
+
+
+def uv_islands(data: Dict[str, np.ndarray], polys: np.ndarray) -> List[np.ndarray]:
+    """Islands of the UV layout itself: polygons of `polys` joined when they share a mesh edge
+    whose two ends have the same UV on both sides."""
+    polys = np.asarray(polys)
+    parent = {int(p): int(p) for p in polys}
+
+    def find(x: int) -> int:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    uv, lv, le = data["uv"], data["loop_vert"], data["loop_edge"]
+    sides: Dict[int, List[Tuple[int, Dict[int, np.ndarray]]]] = {}
+    for p in polys:
+        loops = poly_loops(data, np.array([p]))
+        at = {int(lv[l]): uv[l] for l in loops}
+        for l in loops:
+            sides.setdefault(int(le[l]), []).append((int(p), at))
+    for e, faces in sides.items():
+        if len(faces) != 2:
+            continue
+        (p, a), (q, b) = faces
+        common = set(a) & set(b)
+        if len(common) == 2 and all(np.allclose(a[v], b[v], atol=1e-6) for v in common):
+            parent[find(p)] = find(q)
+    groups: Dict[int, List[int]] = {}
+    for p in polys:
+        groups.setdefault(find(int(p)), []).append(int(p))
+    return [np.array(g) for g in groups.values()]
+
+
+def triangles_of(data: Dict[str, np.ndarray], polys: np.ndarray) -> np.ndarray:
+    return data["tri_loops"][np.isin(data["tri_poly"], polys)]
+
+
+def signed_areas(data: Dict[str, np.ndarray], tris: np.ndarray) -> np.ndarray:
+    a, b, c = data["uv"][tris[:, 0]], data["uv"][tris[:, 1]], data["uv"][tris[:, 2]]
+    return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
+def angle_distortion(data: Dict[str, np.ndarray], polys: np.ndarray) -> float:
+    """Mean over the triangles' corners of |UV angle − 3D angle| (radians)."""
+    tris = triangles_of(data, polys)
+    p3 = data["co"][data["loop_vert"][tris]]
+    p2 = data["uv"][tris]
+
+    def angles(p: np.ndarray) -> np.ndarray:
+        out = []
+        for k in range(3):
+            u = p[:, (k + 1) % 3] - p[:, k]
+            v = p[:, (k + 2) % 3] - p[:, k]
+            cos = (u * v).sum(1) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
+            out.append(np.arccos(np.clip(cos, -1, 1)))
+        return np.stack(out, 1)
+
+    return float(np.abs(angles(p2) - angles(p3)).mean())
+
+
+def assert_no_flips(data: Dict[str, np.ndarray], islands: List[np.ndarray], exclude_loops: Sequence[int] = ()) -> None:
+    """No triangle of an island has the orientation opposite to the island's majority.
+    (Zero-area triangles are not flips: a square boundary makes one when a triangle has all
+    three corners on one side; the tests that allow this say so.)"""
+    for polys in islands:
+        tris = triangles_of(data, polys)
+        area = signed_areas(data, tris[~np.isin(tris, list(exclude_loops)).any(axis=1)])
+        flipped = min((area > 0).sum(), (area < 0).sum())
+        assert flipped == 0, f"island of {len(polys)} faces has {flipped} flipped triangles"
+
+
+def assert_no_overlap(data: Dict[str, np.ndarray], islands: List[np.ndarray]) -> None:
+    """Islands' UV bounding boxes are disjoint (what the side-by-side layout promises)."""
+    boxes = []
+    for polys in islands:
+        uv = data["uv"][poly_loops(data, polys)]
+        boxes.append((uv.min(0), uv.max(0)))
+    for i in range(len(boxes)):
+        for j in range(i + 1, len(boxes)):
+            (a0, a1), (b0, b1) = boxes[i], boxes[j]
+            assert (a1 <= b0 + 1e-9).any() or (b1 <= a0 + 1e-9).any(), f"islands {i} and {j} overlap"
+
+
+def run(**props) -> Dict:
+    result = bpy.ops.uv.uvflat_unwrap(**props)
+    assert result == {"FINISHED"}, result
+    import blender_addon.unwrap as unwrap
+
+    return dict(unwrap.LAST_RUN)
+
+
+def blender_conformal(obj_factory, select, **unwrap_props) -> Dict[str, np.ndarray]:
+    """UVs from Blender's own unwrap (CONFORMAL) on a fresh copy of the same mesh/selection."""
+    obj = obj_factory()
+    edit([obj], select)
+    bpy.ops.uv.unwrap(method="CONFORMAL", margin=0.001, **unwrap_props)
+    data = read(obj)
+    return data
+
+
+def compare_with_blender(obj_factory, select, expected_islands=None) -> Tuple[Dict, Dict, List[np.ndarray]]:
+    """Unwraps obj_factory() with uvflat and a fresh copy with Blender's CONFORMAL; checks
+    islands, flips and per-island angle distortion (ours <= Blender's + 1e-6)."""
+    obj = obj_factory()
+    rng = np.random.default_rng(1)
+    before = set_uvs(obj, rng).astype(np.float64)
+    mask = np.asarray(select(obj), dtype=bool)
+    edit([obj], select)
+    summary = run()
+    ours = read(obj)
+    selected = np.flatnonzero(mask)
+    unselected_loops = poly_loops(ours, np.flatnonzero(~mask))
+    np.testing.assert_array_equal(ours["uv"][unselected_loops], before[unselected_loops])
+    islands = uv_islands(ours, selected)
+    assert len(islands) == summary["islands"]
+    if expected_islands is not None:
+        assert len(islands) == expected_islands
+    assert_no_flips(ours, islands)
+    assert_no_overlap(ours, islands)
+    for fill_holes in (False, True):
+        theirs = blender_conformal(obj_factory, select, fill_holes=fill_holes)
+        for polys in islands:
+            a, b = angle_distortion(ours, polys), angle_distortion(theirs, polys)
+            assert a <= b + 1e-6, f"island of {len(polys)} faces: uvflat {a:.6f} > Blender CONFORMAL {b:.6f} (fill_holes={fill_holes})"
+    return summary, ours, islands
+
+
+# --- tests -------------------------------------------------------------------------------------
+
+
+def test_grid_subset_matches_or_beats_blender_conformal():
+    left = lambda obj: face_centers(obj)[:, 0] < 0.3  # noqa: E731
+    summary, _, _ = compare_with_blender(grid, left, expected_islands=1)
+    assert summary["faces"] == int(left(grid(name="probe")).sum())
+    assert summary["skipped"] == {"closed": 0, "not_disk": 0, "invalid": 0}
+
+
+def test_two_separate_selections_are_two_islands():
+    def select(obj):
+        c = face_centers(obj)
+        return (c[:, 0] < -0.4) | (c[:, 0] > 0.4)
+
+    compare_with_blender(grid, select, expected_islands=2)
+
+
+def test_uv_sphere_islands_follow_seams():
+    everything = lambda obj: np.ones(len(obj.data.polygons), bool)  # noqa: E731
+    summary, _, _ = compare_with_blender(uv_sphere_with_seams, everything, expected_islands=3)
+    assert summary["skipped"]["closed"] == 0
+
+
+def test_nefertiti_subset_from_obj_import():
+    path = mesh_path("disk_nefertiti_small.obj")
+
+    def nefertiti():
+        bpy.ops.wm.obj_import(filepath=str(path))
+        obj = bpy.context.selected_objects[0]
+        obj.name = "nefertiti"
+        return obj
+
+    def select(obj):
+        c = face_centers(obj)
+        return c[:, 0] < np.median(c[:, 0]) + 0.1 * np.ptp(c[:, 0])
+
+    summary, ours, islands = compare_with_blender(nefertiti, select)
+    assert summary["islands"] >= 1
+
+
+def test_ngons_are_written_per_loop():
+    obj = honeycomb()
+    before = set_uvs(obj, np.random.default_rng(2)).astype(np.float64)
+    n = len(obj.data.polygons)
+    edit([obj], lambda o: np.ones(n, bool))
+    summary = run()
+    data = read(obj)
+    loops = poly_loops(data, np.arange(n))
+    assert (np.abs(data["uv"][loops] - before[loops]).max(axis=1) > 0).all(), "a loop of an n-gon was not written"
+    islands = uv_islands(data, np.arange(n))
+    # The hexagons form one island, the concave 8-gon another.
+    assert len(islands) == summary["islands"] == 2
+    assert_no_flips(data, islands)
+    assert_no_overlap(data, islands)
+    # Loops of one vertex inside an island share one UV.
+    lv = data["loop_vert"]
+    for polys in islands:
+        ls = poly_loops(data, polys)
+        for v in np.unique(lv[ls]):
+            at = data["uv"][ls[lv[ls] == v]]
+            assert np.ptp(at, axis=0).max() < 1e-6
+
+
+def test_pinned_uvs_stay_and_constrain_the_island():
+    n = 10
+    obj = grid(n)
+    before = set_uvs(obj, np.random.default_rng(3)).astype(np.float64)
+    data0 = read(obj)
+    mask = face_centers(obj)[:, 0] < 0.5
+    sel_loops = poly_loops(data0, np.flatnonzero(mask))
+    lv = data0["loop_vert"]
+    # Three vertices inside the selection (4 loops each); one loop of each is pinned, as when
+    # a user pins a UV in the UV editor. The natural conformal map takes the two pins farthest
+    # apart in UV (vertices a and b); the third (c) stays where it is, unenforced.
+    vertex = lambda x, y: round((y + 1) * n / 2) * (n + 1) + round((x + 1) * n / 2)  # noqa: E731
+    a, b, c = vertex(-0.6, -0.6), vertex(0.2, 0.6), vertex(-0.2, 0.0)
+    target = {a: (0.1, 0.1), b: (0.9, 0.8), c: (0.5, 0.3)}
+    pinned = []
+    for v, uv in target.items():
+        loops = sel_loops[lv[sel_loops] == v]
+        assert len(loops) == 4
+        before[loops[0]] = uv
+        pinned.append(loops[0])
+    obj.data.uv_layers.active.uv.foreach_set("vector", before.astype(np.float32).ravel())
+    set_pins(obj, pinned)
+    edit([obj], lambda o: mask)
+    summary = run()
+    data = read(obj)
+    expect = before.astype(np.float32).astype(np.float64)
+    np.testing.assert_array_equal(data["uv"][pinned], expect[pinned])
+    unselected = poly_loops(data, np.flatnonzero(~mask))
+    np.testing.assert_array_equal(data["uv"][unselected], expect[unselected])
+    assert summary["islands"] == 1
+    assert summary["unenforced_pins"] == 1
+    assert any("not enforced" in w for w in summary["warnings"])
+    # The other loops of the enforced pins' vertices sit on the pins: the pins constrained the
+    # solve, and the island was not moved afterwards by the layout.
+    for v in (a, b):
+        loops = sel_loops[lv[sel_loops] == v]
+        np.testing.assert_allclose(data["uv"][loops], np.tile(target[v], (4, 1)), atol=1e-6)
+    loops_c = sel_loops[lv[sel_loops] == c]
+    assert np.abs(data["uv"][loops_c[1:]] - target[c]).max() > 1e-3  # not enforced
+    free = np.setdiff1d(sel_loops, pinned)
+    assert (np.abs(data["uv"][free] - before[free]).max(axis=1) > 0).all()
+    # An unenforced pin keeps its UV while its neighbours move, so only triangles without a
+    # pinned corner are checked.
+    assert_no_flips(data, uv_islands(data, np.flatnonzero(mask)), exclude_loops=pinned)
+
+
+def test_one_pin_keeps_its_island_in_place():
+    obj = grid(6)
+    before = set_uvs(obj, np.random.default_rng(10)).astype(np.float64)
+    data0 = read(obj)
+    loops = poly_loops(data0, np.arange(len(obj.data.polygons)))
+    before[loops[5]] = (3.0, 4.0)
+    obj.data.uv_layers.active.uv.foreach_set("vector", before.astype(np.float32).ravel())
+    set_pins(obj, [loops[5]])
+    edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
+    for method in ("NATURAL_CONFORMAL", "MEAN_VALUE"):
+        run(method=method)
+        data = read(obj)
+        lv = data["loop_vert"]
+        same = loops[lv[loops] == lv[loops[5]]]
+        np.testing.assert_allclose(data["uv"][same], np.tile((3.0, 4.0), (len(same), 1)), atol=1e-5)
+        bpy.ops.object.mode_set(mode="EDIT")
+
+
+@pytest.mark.parametrize(
+    "props",
+    [
+        {"method": "MEAN_VALUE", "boundary": "CIRCLE"},
+        {"method": "MEAN_VALUE", "boundary": "SQUARE"},
+        {"method": "INTRINSIC", "lambda_": 1.0, "mu": 0.5},
+        {"method": "TUTTE"},
+        {"method": "FLOATER"},
+        {"method": "AUTHALIC"},
+        {"method": "CONFORMAL"},
+        {"method": "NATURAL_CONFORMAL", "pack": True, "margin": 0.02},
+    ],
+    ids=lambda p: "-".join(str(v) for v in p.values()),
+)
+def test_methods_and_options(props):
+    def select(obj):
+        c = face_centers(obj)
+        return (c[:, 0] < -0.2) | (c[:, 1] > 0.5)
+
+    obj = grid(10)
+    before = set_uvs(obj, np.random.default_rng(4)).astype(np.float64)
+    mask = select(obj)
+    edit([obj], select)
+    summary = run(**props)
+    data = read(obj)
+    unselected = poly_loops(data, np.flatnonzero(~mask))
+    np.testing.assert_array_equal(data["uv"][unselected], before[unselected])
+    islands = uv_islands(data, np.flatnonzero(mask))
+    assert len(islands) == summary["islands"] == 1
+    assert_no_flips(data, islands)
+    loops = poly_loops(data, np.flatnonzero(mask))
+    assert (data["uv"][loops] >= -1e-6).all() and (data["uv"][loops] <= 1 + 1e-6).all()
+
+
+def test_correct_aspect_uses_the_active_image():
+    def unwrap_extent(aspect_image: bool) -> float:
+        for o in list(bpy.data.objects):
+            bpy.data.objects.remove(o)
+        obj = grid(6)
+        if aspect_image:
+            mat = bpy.data.materials.new("checker")
+            mat.use_nodes = True
+            node = mat.node_tree.nodes.new("ShaderNodeTexImage")
+            node.image = bpy.data.images.new("wide", 200, 100)
+            mat.node_tree.nodes.active = node
+            obj.data.materials.append(mat)
+        edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
+        run(correct_aspect=True)
+        uv = read(obj)["uv"]
+        w, h = np.ptp(uv, axis=0)
+        return w / h
+
+    plain, wide = unwrap_extent(False), unwrap_extent(True)
+    assert wide == pytest.approx(plain / 2, rel=1e-4)
+
+
+def test_closed_and_genus_islands_are_skipped_untouched():
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, location=(-3, 0, 0))
+    sphere = bpy.context.object
+    bpy.ops.mesh.primitive_torus_add(major_segments=24, minor_segments=12, location=(3, 0, 0))
+    torus = bpy.context.object
+    bpy.ops.object.mode_set(mode="OBJECT")
+    sphere_uv = set_uvs(sphere, np.random.default_rng(5))
+    torus_uv = set_uvs(torus, np.random.default_rng(6))
+    # The whole sphere (closed), and the torus minus one face (genus 1 with a boundary).
+    edit([sphere, torus], lambda o: np.arange(len(o.data.polygons)) != (0 if o is torus else -1))
+    summary = run()
+    assert summary["skipped"]["closed"] == 1 and summary["skipped"]["not_disk"] == 1
+    assert summary["islands"] == 0
+    assert any("closed" in w for w in summary["warnings"]) and any("genus" in w for w in summary["warnings"])
+    bpy.ops.object.mode_set(mode="OBJECT")
+    np.testing.assert_array_equal(read(sphere)["uv"], sphere_uv)
+    np.testing.assert_array_equal(read(torus)["uv"], torus_uv)
+
+
+def test_multi_object_edit_mode():
+    a = grid(8, "a")
+    b = honeycomb()
+    b.location = (10, 0, 0)
+    ua = set_uvs(a, np.random.default_rng(7)).astype(np.float64)
+    ub = set_uvs(b, np.random.default_rng(8)).astype(np.float64)
+    ma = face_centers(a)[:, 1] < 0.2
+    edit([a, b], lambda o: ma if o is a else np.ones(len(o.data.polygons), bool))
+    assert len(bpy.context.objects_in_mode_unique_data) == 2
+    summary = run()
+    assert summary["islands"] == 3  # one grid island, the hexagons, the 8-gon
+    da, db = read(a), read(b)
+    np.testing.assert_array_equal(da["uv"][poly_loops(da, np.flatnonzero(~ma))], ua[poly_loops(da, np.flatnonzero(~ma))])
+    changed_a = poly_loops(da, np.flatnonzero(ma))
+    assert (np.abs(da["uv"][changed_a] - ua[changed_a]).max(axis=1) > 0).all()
+    assert (np.abs(db["uv"] - ub).max(axis=1) > 0).all()
+    # The islands of both objects share one layout: no bounding boxes overlap across objects.
+    boxes = []
+    for data, polys in [(da, np.flatnonzero(ma))] + [(db, p) for p in uv_islands(db, np.arange(len(b.data.polygons)))]:
+        uv = data["uv"][poly_loops(data, polys)]
+        boxes.append((uv.min(0), uv.max(0)))
+    for i in range(len(boxes)):
+        for j in range(i + 1, len(boxes)):
+            (a0, a1), (b0, b1) = boxes[i], boxes[j]
+            assert (a1 <= b0 + 1e-9).any() or (b1 <= a0 + 1e-9).any()
+
+
+def test_undo():
+    import blender_addon.unwrap as unwrap
+
+    assert {"REGISTER", "UNDO"} <= set(unwrap.UVFLAT_OT_unwrap.bl_options)
+    obj = grid(8)
+    before = set_uvs(obj, np.random.default_rng(9))
+    mask = face_centers(obj)[:, 0] < 0.0
+    edit([obj], lambda o: mask)
+    if bpy.ops.ed.undo.poll():  # only with a window manager (not in background mode)
+        bpy.ops.ed.undo_push(message="before uvflat")
+        run()
+        bpy.ops.ed.undo()
+        np.testing.assert_array_equal(read(obj)["uv"], before)
+        return
+    # Headless: redo (F9) and undo replay the operator on the restored mesh, so re-running it
+    # on the same input must give the same UVs, bit for bit.
+    run(method="NATURAL_CONFORMAL")
+    first = read(obj)["uv"]
+    obj.data.uv_layers.active.uv.foreach_set("vector", before.ravel())
+    edit([obj], lambda o: mask)
+    run(method="NATURAL_CONFORMAL")
+    np.testing.assert_array_equal(read(obj)["uv"], first)
+
+
+def test_picture_of_an_unwrapped_model():
+    """Renders disk_nefertiti_small.obj with a checker texture on the uvflat UVs (Cycles, CPU)
+    and writes the UV layout as SVG: target/blender-pictures/ (or $UVFLAT_PICTURES)."""
+    path = mesh_path("disk_nefertiti_small.obj")
+    bpy.ops.wm.obj_import(filepath=str(path))
+    obj = bpy.context.selected_objects[0]
+    edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
+    summary = run()
+    assert summary["islands"] == 1
+    PICTURES.mkdir(parents=True, exist_ok=True)
+    svg = PICTURES / "nefertiti_uv_layout.svg"
+    bpy.ops.uv.export_layout(filepath=str(svg), mode="SVG", size=(1024, 1024), export_all=False)
+    assert svg.exists() and svg.stat().st_size > 1000
+    bpy.ops.object.mode_set(mode="OBJECT")
+
+    mat = bpy.data.materials.new("checker")
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    checker = nodes.new("ShaderNodeTexChecker")
+    checker.inputs["Scale"].default_value = 24.0
+    checker.inputs["Color1"].default_value = (0.9, 0.85, 0.75, 1)
+    checker.inputs["Color2"].default_value = (0.15, 0.25, 0.45, 1)
+    coords = nodes.new("ShaderNodeTexCoord")
+    links.new(coords.outputs["UV"], checker.inputs["Vector"])
+    links.new(checker.outputs["Color"], nodes["Principled BSDF"].inputs["Base Color"])
+    obj.data.materials.append(mat)
+    bpy.ops.object.shade_smooth()
+
+    scene = bpy.context.scene
+    lo, hi = np.array(obj.bound_box).min(0), np.array(obj.bound_box).max(0)
+    center, size = (lo + hi) / 2, float(np.max(hi - lo))
+    cam_data = bpy.data.cameras.new("camera")
+    cam = bpy.data.objects.new("camera", cam_data)
+    scene.collection.objects.link(cam)
+    # The model faces +Y after import (OBJ Y-up -> Blender Z-up); look at it from the front.
+    cam.location = (center[0] + 0.3 * size, center[1] - 1.8 * size, center[2] + 0.3 * size)
+    direction = center - np.array(cam.location)
+    import mathutils
+
+    cam.rotation_euler = mathutils.Vector(direction).to_track_quat("-Z", "Y").to_euler()
+    scene.camera = cam
+    light_data = bpy.data.lights.new("sun", "SUN")
+    light_data.energy = 4.0
+    light = bpy.data.objects.new("sun", light_data)
+    light.rotation_euler = (0.8, 0.2, -0.5)
+    scene.collection.objects.link(light)
+    world = bpy.data.worlds.new("world")
+    world.color = (0.6, 0.6, 0.6)
+    scene.world = world
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = 16
+    scene.render.resolution_x = scene.render.resolution_y = 512
+    png = PICTURES / "nefertiti_checker.png"
+    scene.render.filepath = str(png)
+    bpy.ops.render.render(write_still=True)
+    assert png.exists() and png.stat().st_size > 10000
+
+
+def test_extension_zip_installs_and_unwraps(tmp_path):
+    """scripts/build_blender_extension.sh makes a zip that Blender installs as an extension and
+    that runs with its bundled binding and library (no $UVFLAT_LIBRARY, no installed binding
+    on the path: a clean Python with only bpy's own modules, in a throwaway user directory)."""
+    import subprocess
+
+    zip_path = tmp_path / "uvflat.zip"
+    env = dict(os.environ)
+    build = subprocess.run([str(REPO / "scripts" / "build_blender_extension.sh"), str(zip_path)], capture_output=True, text=True, env=env)
+    assert build.returncode == 0, build.stderr
+    script = tmp_path / "install.py"
+    script.write_text(
+        "import sys, bpy\n"
+        "sys.modules.pop('uvflat', None)\n"
+        "import builtins\n"
+        "real_import = builtins.__import__\n"
+        "def guarded(name, *a, **k):\n"
+        "    if name == 'uvflat' and not (a and a[0] and a[0].get('__package__', '').startswith('bl_ext')):\n"
+        "        raise ImportError('the installed binding must not be used')\n"
+        "    return real_import(name, *a, **k)\n"
+        "builtins.__import__ = guarded\n"
+        "bpy.ops.wm.read_factory_settings(use_empty=True)\n"
+        f"assert bpy.ops.extensions.package_install_files(filepath={str(zip_path)!r}, repo='user_default', enable_on_install=True) == {{'FINISHED'}}\n"
+        "bpy.ops.mesh.primitive_grid_add(x_subdivisions=8, y_subdivisions=8)\n"
+        "bpy.ops.object.mode_set(mode='EDIT'); bpy.ops.mesh.select_all(action='SELECT')\n"
+        "assert bpy.ops.uv.uvflat_unwrap() == {'FINISHED'}\n"
+        "print('ISLANDS', sys.modules['bl_ext.user_default.uvflat.unwrap'].LAST_RUN['islands'])\n"
+        "print('LIBRARY', sys.modules['bl_ext.user_default.uvflat.vendor.uvflat'].library_path())\n"
+    )
+    env.pop("UVFLAT_LIBRARY", None)
+    env["BLENDER_USER_RESOURCES"] = str(tmp_path / "blender")
+    run_ = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=env, timeout=300)
+    assert "ISLANDS 1" in run_.stdout, run_.stdout + run_.stderr
+    assert f"LIBRARY {tmp_path / 'blender'}" in run_.stdout, run_.stdout
