@@ -1,6 +1,8 @@
 //! Per-triangle geometric quantities computed once per mesh and shared by every method:
-//! areas, corner angles and corner cotangents. Angles are in radians; corner `k` of triangle
+//! areas, corner cotangents and (on demand) corner angles. Angles are in radians; corner `k` of triangle
 //! `t` sits at vertex `triangles[t][k]`.
+
+use rayon::prelude::*;
 
 /// Difference `a − b`.
 #[inline]
@@ -33,15 +35,26 @@ pub fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     norm(sub(a, b))
 }
 
-/// Corner angles, cotangents and area of every triangle.
+/// Cotangents and area of every triangle. (Corner angles, an `atan2` each, which only some
+/// methods need, are computed on demand by [`corner_angles`]; `TriMesh` caches them.)
 #[derive(Debug, Clone)]
 pub struct TriangleGeometry {
     /// Area of each triangle.
     pub area: Vec<f64>,
-    /// Interior angle at each corner (radians).
-    pub angle: Vec<[f64; 3]>,
     /// Cotangent of the angle at each corner.
     pub cot: Vec<[f64; 3]>,
+}
+
+/// Interior angle (radians) at every corner of every triangle, in parallel.
+pub fn corner_angles(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[f64; 3]> {
+    triangles
+        .par_iter()
+        .with_min_len(4096)
+        .map(|tri| {
+            let p = tri.map(|v| points[v as usize]);
+            std::array::from_fn(|k| corner_angle_cot(p[k], p[(k + 1) % 3], p[(k + 2) % 3]).0)
+        })
+        .collect()
 }
 
 /// Angle and cotangent at the corner `p` between the edges towards `q` and `r`.
@@ -52,25 +65,46 @@ pub fn corner_angle_cot(p: [f64; 3], q: [f64; 3], r: [f64; 3]) -> (f64, f64) {
     (s.atan2(c), c / s)
 }
 
+/// Cotangent at the corner `p` between the edges towards `q` and `r` (as [`corner_angle_cot`]).
+#[inline]
+pub fn corner_cot(p: [f64; 3], q: [f64; 3], r: [f64; 3]) -> f64 {
+    let (e1, e2) = (sub(q, p), sub(r, p));
+    dot(e1, e2) / norm(cross(e1, e2))
+}
+
 impl TriangleGeometry {
-    /// Computes areas, angles and cotangents of all triangles.
+    /// Computes areas, angles and cotangents of all triangles (in parallel).
     pub fn new(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Self {
-        let mut g = TriangleGeometry {
-            area: Vec::with_capacity(triangles.len()),
-            angle: Vec::with_capacity(triangles.len()),
-            cot: Vec::with_capacity(triangles.len()),
-        };
-        for tri in triangles {
-            let p = tri.map(|v| points[v as usize]);
-            g.area.push(0.5 * norm(cross(sub(p[1], p[0]), sub(p[2], p[0]))));
-            let mut angle = [0.0; 3];
-            let mut cot = [0.0; 3];
-            for k in 0..3 {
-                (angle[k], cot[k]) = corner_angle_cot(p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
-            }
-            g.angle.push(angle);
-            g.cot.push(cot);
-        }
-        g
+        Self::new_rejecting(points, triangles, |_| false).0
+    }
+
+    /// [`TriangleGeometry::new`], also returning the first triangle (in triangle order) whose
+    /// relative area ([`crate::mesh::validate::relative_area`]) `reject` refuses, with that
+    /// relative area: one pass over the vertices serves validation and geometry.
+    pub fn new_rejecting(
+        points: &[[f64; 3]],
+        triangles: &[[u32; 3]],
+        reject: impl Fn(f64) -> bool + Sync,
+    ) -> (Self, Option<(usize, f64)>) {
+        let m = triangles.len();
+        let mut g = TriangleGeometry { area: vec![0.0; m], cot: vec![[0.0; 3]; m] };
+        let rejected = g
+            .area
+            .par_iter_mut()
+            .zip(g.cot.par_iter_mut())
+            .zip(triangles.par_iter())
+            .with_min_len(4096)
+            .enumerate()
+            .filter_map(|(t, ((area, cot), tri))| {
+                let p = tri.map(|v| points[v as usize]);
+                *area = 0.5 * norm(cross(sub(p[1], p[0]), sub(p[2], p[0])));
+                for k in 0..3 {
+                    cot[k] = corner_cot(p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
+                }
+                let relative = crate::mesh::validate::relative_area(p[0], p[1], p[2]);
+                reject(relative).then_some((t, relative))
+            })
+            .min_by_key(|&(t, _)| t);
+        (g, rejected)
     }
 }

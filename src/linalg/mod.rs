@@ -4,15 +4,18 @@
 //! positive-definite systems, and sparse LU for the others. A factorization is an object, so a
 //! method that solves several times factors once.
 
+pub mod multifrontal;
 pub mod ordering;
 
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::Solve;
 use faer::perm::PermRef;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering};
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering};
+use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::solvers::Lu;
-use faer::sparse::{SparseColMat, SymbolicSparseColMat};
+use faer::sparse::{SparseColMat, SymbolicSparseColMat, SymbolicSparseColMatRef};
+use std::sync::Arc;
 use faer::traits::ComplexField;
 use faer::{Conj, Mat, Par, Side};
 
@@ -61,7 +64,7 @@ impl<T: ComplexField + Copy + std::ops::Add<Output = T>> TripletBuilder<T> {
             for &(r, v) in column.iter() {
                 if row_idx.len() > out_ptr[c] && *row_idx.last().unwrap_or(&usize::MAX) == r as usize {
                     let last = values.len() - 1;
-                    values[last] = values[last] + v;
+                    values[last] += v;
                 } else {
                     row_idx.push(r as usize);
                     values.push(v);
@@ -74,45 +77,129 @@ impl<T: ComplexField + Copy + std::ops::Add<Output = T>> TripletBuilder<T> {
     }
 }
 
+/// Lower triangle (in compressed columns, rows sorted, diagonal first) of a symmetric or
+/// Hermitian matrix given by its diagonal and its strictly lower entries `(row, col, value)`
+/// (row > col; repeated positions are summed). A counting sort by column, then a sort of each
+/// (short) column: O(nnz) for mesh matrices.
+pub fn lower_from_entries<T: ComplexField + Copy>(
+    diagonal: &[T],
+    entries: Vec<(u32, u32, T)>,
+) -> Result<SparseColMat<usize, T>> {
+    let n = diagonal.len();
+    if let Some(&(r, c, _)) = entries.iter().find(|&&(r, c, _)| r <= c || r as usize >= n) {
+        return Err(Error::Internal(format!("entry ({r}, {c}) is not strictly lower in a matrix of size {n}")));
+    }
+    let mut start = vec![0usize; n + 1];
+    for &(_, c, _) in &entries {
+        start[c as usize + 1] += 1;
+    }
+    for c in 0..n {
+        start[c + 1] += start[c];
+    }
+    let mut fill = start.clone();
+    let mut by_column: Vec<(u32, T)> = vec![(0, T::zero_impl()); entries.len()];
+    for (r, c, v) in entries {
+        by_column[fill[c as usize]] = (r, v);
+        fill[c as usize] += 1;
+    }
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    let mut row_idx = Vec::with_capacity(n + by_column.len());
+    let mut values = Vec::with_capacity(n + by_column.len());
+    col_ptr.push(0);
+    for c in 0..n {
+        row_idx.push(c);
+        values.push(diagonal[c]);
+        let column = &mut by_column[start[c]..start[c + 1]];
+        column.sort_unstable_by_key(|e| e.0);
+        for &(r, v) in column.iter() {
+            if *row_idx.last().unwrap_or(&usize::MAX) == r as usize {
+                let last = values.len() - 1;
+                values[last] += v;
+            } else {
+                row_idx.push(r as usize);
+                values.push(v);
+            }
+        }
+        col_ptr.push(row_idx.len());
+    }
+    let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+    Ok(SparseColMat::new(symbolic, values))
+}
+
+/// Symbolic analysis of a sparse Cholesky factorization: the fill-reducing elimination order
+/// and the (supernodal) structure of the factor. It depends only on the sparsity pattern, so a
+/// method that factors several matrices with one pattern computes it once.
+pub struct CholeskyPattern {
+    symbolic: Arc<SymbolicCholesky<usize>>,
+}
+
+impl CholeskyPattern {
+    /// Analyses the lower-triangular pattern (entries with row ≥ col). With `coords` (one 3D
+    /// position per unknown) the elimination order is geometric nested dissection, otherwise
+    /// AMD.
+    pub fn new(lower: SymbolicSparseColMatRef<'_, usize>, coords: Option<&[[f64; 3]]>) -> Result<Self> {
+        let order = coords.map(|c| {
+            let adj = ordering::Adjacency::from_lower(lower.nrows(), lower.col_ptr(), lower.row_idx());
+            ordering::nested_dissection(&adj, c)
+        });
+        Self::with_order(lower, order)
+    }
+
+    /// Analyses the pattern with a given elimination order (`order[k]` = unknown eliminated
+    /// k-th), or AMD when `order` is `None`.
+    pub fn with_order(lower: SymbolicSparseColMatRef<'_, usize>, order: Option<Vec<usize>>) -> Result<Self> {
+        let n = lower.nrows();
+        let symbolic = match order {
+            Some(fwd) => {
+                if fwd.len() != n {
+                    return Err(Error::Internal(format!("elimination order of length {} for {n} unknowns", fwd.len())));
+                }
+                let mut inv = vec![usize::MAX; n];
+                for (k, &v) in fwd.iter().enumerate() {
+                    if v >= n || inv[v] != usize::MAX {
+                        return Err(Error::Internal(format!("elimination order is not a permutation (unknown {v})")));
+                    }
+                    inv[v] = k;
+                }
+                let ord = SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, n));
+                factorize_symbolic_cholesky(lower, Side::Lower, ord, supernodal())
+            }
+            None => factorize_symbolic_cholesky(lower, Side::Lower, SymmetricOrdering::Amd, supernodal()),
+        }
+        .map_err(|e| Error::Internal(format!("symbolic Cholesky failed: {e:?}")))?;
+        Ok(CholeskyPattern { symbolic: Arc::new(symbolic) })
+    }
+
+    /// Number of stored entries of the factor L (including the zeros supernodes carry).
+    pub fn factor_len(&self) -> usize {
+        self.symbolic.len_val()
+    }
+
+    /// Numeric factorization of a matrix with the analysed pattern (parallel multifrontal,
+    /// [`multifrontal`]).
+    pub fn factor<T: ComplexField + Copy + Send + Sync>(&self, lower: &SparseColMat<usize, T>) -> Result<CholeskySolver<T>> {
+        let mut values = try_zeroed_vec::<T>(self.symbolic.len_val())?;
+        // An empty system (e.g. a fixed-boundary map of a mesh without interior vertices) has
+        // nothing to factor; faer's analysis of it is not supernodal.
+        if self.symbolic.nrows() > 0 {
+            multifrontal::factorize(&self.symbolic, lower.as_ref(), &mut values)?;
+        }
+        Ok(CholeskySolver { symbolic: Arc::clone(&self.symbolic), values })
+    }
+}
+
 /// Sparse Cholesky factorization `A = L Lᴴ` of a symmetric (Hermitian) positive-definite
 /// matrix given by its lower triangle.
 pub struct CholeskySolver<T> {
-    symbolic: SymbolicCholesky<usize>,
+    symbolic: Arc<SymbolicCholesky<usize>>,
     values: Vec<T>,
 }
 
-impl<T: ComplexField> CholeskySolver<T> {
-    /// Factors the matrix (entries with row ≥ col are read). With `coords` (one 3D position
-    /// per unknown) the elimination order is geometric nested dissection, otherwise AMD.
+impl<T: ComplexField + Copy + Send + Sync> CholeskySolver<T> {
+    /// Analyses and factors the matrix (entries with row ≥ col are read). With `coords` (one 3D
+    /// position per unknown) the elimination order is geometric nested dissection, otherwise AMD.
     pub fn new(lower: &SparseColMat<usize, T>, coords: Option<&[[f64; 3]]>) -> Result<Self> {
-        let n = lower.nrows();
-        let (fwd, inv) = match coords {
-            Some(c) => {
-                let adj = ordering::Adjacency::from_lower(n, lower.col_ptr(), lower.row_idx());
-                let fwd = ordering::nested_dissection(&adj, c);
-                let mut inv = vec![0usize; n];
-                for (k, &v) in fwd.iter().enumerate() {
-                    inv[v] = k;
-                }
-                (fwd, inv)
-            }
-            None => (Vec::new(), Vec::new()),
-        };
-        let ord = if coords.is_some() {
-            SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, n))
-        } else {
-            SymmetricOrdering::Amd
-        };
-        let symbolic = factorize_symbolic_cholesky(lower.symbolic(), Side::Lower, ord, Default::default())
-            .map_err(|e| Error::Internal(format!("symbolic Cholesky failed: {e:?}")))?;
-        let mut values = try_zeroed_vec::<T>(symbolic.len_val())?;
-        let par = faer::get_global_parallelism();
-        let mut mem = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<T>(par, Default::default()))
-            .map_err(|_| Error::Internal("out of memory for the Cholesky workspace".into()))?;
-        symbolic
-            .factorize_numeric_llt(&mut values, lower.as_ref(), Side::Lower, Default::default(), par, MemStack::new(&mut mem), Default::default())
-            .map_err(|e| Error::Numerical(format!("the system matrix is not positive definite ({e:?}); the mesh may have extremely bad triangles")))?;
-        Ok(CholeskySolver { symbolic, values })
+        CholeskyPattern::new(lower.symbolic(), coords)?.factor(lower)
     }
 
     /// Solves for every column of `rhs` in place.
@@ -125,10 +212,18 @@ impl<T: ComplexField> CholeskySolver<T> {
     }
 }
 
-fn try_zeroed_vec<T: ComplexField>(len: usize) -> Result<Vec<T>> {
+/// Symbolic parameters: always the supernodal structure, which the multifrontal numeric
+/// factorization works on.
+fn supernodal() -> CholeskySymbolicParams<'static> {
+    CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() }
+}
+
+/// A zeroed vector, filled in parallel (the first touch of a large allocation is page faults).
+fn try_zeroed_vec<T: ComplexField + Copy + Send + Sync>(len: usize) -> Result<Vec<T>> {
+    use rayon::iter::{repeat_n, ParallelExtend};
     let mut v = Vec::new();
     v.try_reserve_exact(len).map_err(|_| Error::Internal(format!("out of memory for a Cholesky factor of {len} entries")))?;
-    v.resize(len, T::zero_impl());
+    v.par_extend(repeat_n(T::zero_impl(), len));
     Ok(v)
 }
 

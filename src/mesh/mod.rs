@@ -26,6 +26,7 @@ pub struct TriMesh {
     component_count: usize,
     referenced_count: usize,
     geometry: TriangleGeometry,
+    angles: std::sync::OnceLock<Vec<[f64; 3]>>,
 }
 
 /// Summary of a mesh's topology, as reported by `uvflat info` and `uvf_mesh_info`.
@@ -54,19 +55,38 @@ impl TriMesh {
     /// counter-clockwise) and builds the mesh.
     pub fn new(positions: &[f64], triangles: &[u32]) -> Result<Self> {
         let (points, tris) = validate::split_arrays(positions, triangles)?;
-        validate::check_degenerate(&points, &tris)?;
-        Self::from_checked(points, tris)
+        // The degeneracy check shares the geometry's pass over the vertices.
+        let (geometry, degenerate) = TriangleGeometry::new_rejecting(&points, &tris, validate::is_degenerate);
+        if let Some((triangle, relative_area)) = degenerate {
+            return Err(Error::DegenerateTriangle { triangle, relative_area });
+        }
+        Self::with_geometry(points, tris, geometry)
     }
 
     /// Builds a mesh from points and triangles that passed index and degeneracy checks.
     pub(crate) fn from_checked(points: Vec<[f64; 3]>, tris: Vec<[u32; 3]>) -> Result<Self> {
+        let geometry = TriangleGeometry::new(&points, &tris);
+        Self::with_geometry(points, tris, geometry)
+    }
+
+    /// Builds a mesh from checked points and triangles and their geometry.
+    fn with_geometry(points: Vec<[f64; 3]>, tris: Vec<[u32; 3]>, geometry: TriangleGeometry) -> Result<Self> {
         validate::check_duplicates(&tris)?;
         let conn = Connectivity::new(points.len(), &tris)?;
         let loops = topology::boundary_loops(&tris, &conn);
         let (component, component_count) = topology::triangle_components(tris.len(), &conn);
         let referenced_count = conn.vertex_halfedge.iter().filter(|&&h| h != NONE).count();
-        let geometry = TriangleGeometry::new(&points, &tris);
-        Ok(TriMesh { points, triangles: tris, conn, loops, component, component_count, referenced_count, geometry })
+        Ok(TriMesh {
+            points,
+            triangles: tris,
+            conn,
+            loops,
+            component,
+            component_count,
+            referenced_count,
+            geometry,
+            angles: std::sync::OnceLock::new(),
+        })
     }
 
     /// Number of vertices (including unreferenced ones).
@@ -89,9 +109,14 @@ impl TriMesh {
     pub fn connectivity(&self) -> &Connectivity {
         &self.conn
     }
-    /// Per-triangle areas, angles and cotangents.
+    /// Per-triangle areas and cotangents.
     pub fn geometry(&self) -> &TriangleGeometry {
         &self.geometry
+    }
+    /// Interior angle (radians) at each corner, `[t][k]` at vertex `triangles()[t][k]`;
+    /// computed on first use.
+    pub fn corner_angles(&self) -> &[[f64; 3]] {
+        self.angles.get_or_init(|| crate::geometry::corner_angles(&self.points, &self.triangles))
     }
     /// Boundary loops, each ordered counter-clockwise (surface on the left).
     pub fn boundary_loops(&self) -> &[Vec<u32>] {

@@ -27,27 +27,54 @@ pub fn boundary_loops(triangles: &[[u32; 3]], conn: &Connectivity) -> Vec<Vec<u3
 }
 
 /// Component id of every triangle and the number of components (triangles sharing an edge are
-/// connected).
+/// connected). Ids are numbered in order of each component's lowest triangle. Union–find over
+/// the twin pairs in half-edge order (linking the higher root under the lower, with path
+/// halving), which reads the twins sequentially instead of chasing them.
 pub fn triangle_components(triangle_count: usize, conn: &Connectivity) -> (Vec<u32>, usize) {
-    let mut comp = vec![NONE; triangle_count];
-    let mut count = 0u32;
-    let mut stack = Vec::new();
-    for seed in 0..triangle_count {
-        if comp[seed] != NONE {
-            continue;
-        }
-        comp[seed] = count;
-        stack.push(seed);
-        while let Some(t) = stack.pop() {
-            for k in 0..3 {
-                let tw = conn.twin[3 * t + k];
-                if tw != NONE && comp[(tw / 3) as usize] == NONE {
-                    comp[(tw / 3) as usize] = count;
-                    stack.push((tw / 3) as usize);
-                }
+    let mut parent: Vec<u32> = (0..triangle_count as u32).collect();
+    for (h, &t) in conn.twin.iter().enumerate() {
+        if t != NONE && (t as usize) > h {
+            let (a, b) = (find(&mut parent, (h / 3) as u32), find(&mut parent, t / 3));
+            if a != b {
+                parent[a.max(b) as usize] = a.min(b);
             }
         }
-        count += 1;
+    }
+    let mut comp = vec![NONE; triangle_count];
+    let mut count = 0u32;
+    for t in 0..triangle_count {
+        let root = find(&mut parent, t as u32) as usize;
+        // Roots are the lowest triangle of their component, so they are labelled first.
+        if comp[root] == NONE {
+            comp[root] = count;
+            count += 1;
+        }
+        comp[t] = comp[root];
     }
     (comp, count as usize)
+}
+
+/// Root of `x` in a union–find forest, halving the path on the way.
+fn find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let grandparent = parent[parent[x as usize] as usize];
+        parent[x as usize] = grandparent;
+        x = grandparent;
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn components_are_numbered_by_lowest_triangle() {
+        // Three strips of two triangles, interleaved: triangles 0 and 3, 1 and 4, 2 and 5 pair up.
+        let tris: Vec<[u32; 3]> = vec![[0, 1, 2], [4, 5, 6], [8, 9, 10], [0, 2, 3], [4, 6, 7], [8, 10, 11]];
+        let conn = Connectivity::new(12, &tris).expect("valid mesh");
+        let (comp, count) = triangle_components(tris.len(), &conn);
+        assert_eq!(count, 3);
+        assert_eq!(comp, vec![0, 1, 2, 0, 1, 2]);
+    }
 }

@@ -2,6 +2,7 @@
 //! finite coordinates, repeated vertices, degenerate and duplicate triangles.
 
 use crate::error::{Error, Result};
+use rayon::prelude::*;
 
 /// Triangles whose area is below this fraction of their longest edge squared are degenerate.
 /// (A needle with a 1e-6 degree angle still passes; collinear points do not.)
@@ -73,33 +74,67 @@ pub fn relative_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     0.5 * norm(cross(ab, ac)) / longest
 }
 
-/// Rejects triangles with (near-)zero area.
+/// Whether a triangle of this relative area is degenerate (NaN counts as degenerate).
+pub fn is_degenerate(relative_area: f64) -> bool {
+    relative_area.is_nan() || relative_area <= DEGENERATE_RELATIVE_AREA
+}
+
+/// Rejects triangles with (near-)zero area (the first one, in triangle order, is reported).
 pub fn check_degenerate(points: &[[f64; 3]], tris: &[[u32; 3]]) -> Result<()> {
+    let relative = |tri: &[u32; 3]| relative_area(points[tri[0] as usize], points[tri[1] as usize], points[tri[2] as usize]);
+    let degenerate = tris.par_iter().with_min_len(4096).position_first(|tri| is_degenerate(relative(tri)));
+    match degenerate {
+        Some(t) => Err(Error::DegenerateTriangle { triangle: t, relative_area: relative(&tris[t]) }),
+        None => Ok(()),
+    }
+}
+
+/// Rejects two triangles over the same three vertices (in any order). Triangles are bucketed by
+/// their lowest vertex (a counting sort) and compared within buckets; the pair reported is the
+/// one with the smallest sorted vertex triple, and within it the two lowest triangle indices.
+pub fn check_duplicates(tris: &[[u32; 3]]) -> Result<()> {
+    let sorted = |tri: &[u32; 3]| {
+        let mut s = *tri;
+        s.sort_unstable();
+        s
+    };
+    let vertex_count = tris.iter().flat_map(|t| t.iter()).max().map_or(0, |&v| v as usize + 1);
+    let mut start = vec![0u32; vertex_count + 1];
+    for tri in tris {
+        start[tri[0].min(tri[1]).min(tri[2]) as usize + 1] += 1;
+    }
+    for v in 0..vertex_count {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut entries = vec![(0u32, 0u32, 0u32); tris.len()];
     for (t, tri) in tris.iter().enumerate() {
-        let r = relative_area(points[tri[0] as usize], points[tri[1] as usize], points[tri[2] as usize]);
-        if !(r > DEGENERATE_RELATIVE_AREA) {
-            return Err(Error::DegenerateTriangle { triangle: t, relative_area: r });
+        let s = sorted(tri);
+        let slot = &mut fill[s[0] as usize];
+        entries[*slot as usize] = (s[1], s[2], t as u32);
+        *slot += 1;
+    }
+    for v in 0..vertex_count {
+        let bucket = &mut entries[start[v] as usize..start[v + 1] as usize];
+        bucket.sort_unstable();
+        if let Some(w) = bucket.windows(2).find(|w| (w[0].0, w[0].1) == (w[1].0, w[1].1)) {
+            return Err(Error::DuplicateTriangle { triangle: w[1].2 as usize, first: w[0].2 as usize });
         }
     }
     Ok(())
 }
 
-/// Rejects two triangles over the same three vertices (in any order).
-pub fn check_duplicates(tris: &[[u32; 3]]) -> Result<()> {
-    let mut keys: Vec<(u128, usize)> = tris
-        .iter()
-        .enumerate()
-        .map(|(t, tri)| {
-            let mut s = *tri;
-            s.sort_unstable();
-            (((s[0] as u128) << 64) | ((s[1] as u128) << 32) | s[2] as u128, t)
-        })
-        .collect();
-    keys.sort_unstable();
-    for w in keys.windows(2) {
-        if w[0].0 == w[1].0 {
-            return Err(Error::DuplicateTriangle { triangle: w[1].1, first: w[0].1 });
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_duplicate_reported_has_the_smallest_vertex_triple_then_the_lowest_indices() {
+        let tris = [[5, 6, 7], [1, 2, 3], [7, 5, 6], [3, 1, 2], [2, 3, 1], [0, 8, 9]];
+        match check_duplicates(&tris) {
+            Err(Error::DuplicateTriangle { triangle, first }) => assert_eq!((triangle, first), (3, 1)),
+            other => panic!("expected a duplicate, got {other:?}"),
         }
+        assert!(check_duplicates(&[[0, 1, 2], [0, 2, 1 + 2]]).is_ok());
     }
-    Ok(())
 }

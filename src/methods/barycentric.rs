@@ -132,7 +132,7 @@ fn triangle_weight(mesh: &TriMesh, t: usize, a: usize, b: usize, c: usize, weigh
         Weights::Uniform => 0.5,
         Weights::Conformal => 0.5 * g.cot[t][c],
         Weights::Authalic => g.cot[t][b] / norm2(sub(xi, xj)),
-        Weights::MeanValue => (0.5 * g.angle[t][a]).tan() / distance(xi, xj),
+        Weights::MeanValue => (0.5 * mesh.corner_angles()[t][a]).tan() / distance(xi, xj),
         Weights::Intrinsic { lambda, mu } => lambda * g.cot[t][c] + mu * mean_edge2 * g.cot[t][b] / norm2(sub(xi, xj)),
         Weights::Floater => unreachable!("Floater weights are computed per vertex"),
     }

@@ -26,12 +26,12 @@ pub fn floater_weights(mesh: &TriMesh, unknown: &[u32]) -> Vec<(u32, u32, f64)> 
 
 /// Neighbours of an interior vertex in counter-clockwise order and their polar-map positions.
 fn polar_map(mesh: &TriMesh, v: u32) -> (Vec<u32>, Vec<[f64; 2]>) {
-    let g = mesh.geometry();
+    let corner_angles = mesh.corner_angles();
     let mut ring = Vec::new();
     let mut angles = Vec::new();
     for h in mesh.outgoing_halfedges(v) {
         ring.push(mesh.head(h));
-        angles.push(g.angle[(h / 3) as usize][(h % 3) as usize]);
+        angles.push(corner_angles[(h / 3) as usize][(h % 3) as usize]);
     }
     let total: f64 = angles.iter().sum();
     let p = mesh.points()[v as usize];

@@ -1,0 +1,497 @@
+//! Parallel multifrontal numeric Cholesky factorization `P A Pᵀ = L Lᴴ` (Duff–Reid 1983, "The
+//! multifrontal solution of indefinite sparse symmetric linear equations"; Liu 1992, "The
+//! multifrontal method for sparse matrix solution: theory and practice", §4–5), on faer's
+//! supernodal symbolic analysis.
+//!
+//! Each supernode s (columns `f..l`, below-diagonal rows `P_s`) owns a dense front of size
+//! `|f..l| + |P_s|`: the entries of A in its columns plus the update matrices of its children,
+//! added at the matching rows ("extend-add"). A dense partial Cholesky of the front gives the
+//! columns `f..l` of L and the update matrix `U_s = F₂₂ − L₂₁ L₂₁ᴴ` passed to the parent. Fronts
+//! in disjoint subtrees of the supernodal elimination tree are independent, so subtrees run in
+//! parallel (rayon): every small subtree is one task, factored in postorder, and the last child
+//! to finish continues with its parent, so the large fronts near the root start as soon as
+//! their children are done and use parallel dense kernels. Dense kernels are faer's. L is
+//! written in faer's supernodal layout, so faer's triangular solves use it unchanged.
+//!
+//! faer's own numeric factorization is left-looking and sequential over supernodes; this one
+//! does the same arithmetic (the same L up to rounding) with both cores busy.
+//! Cost: the factorization's flops, plus O(Σ_s |P_s|²) memory traffic for the extend-adds.
+
+use crate::error::{Error, Result};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch, LltError};
+use faer::linalg::matmul::triangular::{matmul, BlockStructure};
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
+use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
+use faer::sparse::SparseColMatRef;
+use faer::traits::ComplexField;
+use faer::reborrow::{Reborrow, ReborrowMut};
+use faer::{Accum, MatMut, Par};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::Mutex;
+
+const NONE: u32 = u32::MAX;
+/// Subtrees with less work than this fraction of the total are one sequential task each.
+const TASK_FRACTION: f64 = 1.0 / 256.0;
+/// Fronts with at least this many entries in their factor block use parallel dense kernels.
+const PARALLEL_FRONT: usize = 64 * 1024;
+
+/// Factors the matrix whose lower triangle is `lower` (in the original numbering; `symbolic`
+/// holds the permutation) into `values` (overwritten), laid out as faer's supernodal factor of
+/// `symbolic`.
+pub fn factorize<T: ComplexField + Copy + Send + Sync>(
+    symbolic: &SymbolicCholesky<usize>,
+    lower: SparseColMatRef<'_, usize, T>,
+    values: &mut [T],
+) -> Result<()> {
+    let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
+        return Err(Error::Internal("the multifrontal factorization needs a supernodal symbolic analysis".into()));
+    };
+    if values.len() != sn.len_val() {
+        return Err(Error::Internal(format!("factor storage of {} entries for {} expected", values.len(), sn.len_val())));
+    }
+    let inverse = symbolic.perm().map(|p| p.arrays().1);
+    let a = PermutedLower::new(lower, inverse);
+    let tree = SupernodeTree::new(sn);
+    let mut slots = Vec::with_capacity(tree.len());
+    let mut rest = values;
+    for s in 0..tree.len() {
+        let len = sn.col_ptr_for_val()[s + 1] - sn.col_ptr_for_val()[s];
+        let (head, tail) = rest.split_at_mut(len);
+        slots.push(Mutex::new(Some(head)));
+        rest = tail;
+    }
+    let cx = Context {
+        sn,
+        a: &a,
+        tree: &tree,
+        factor: slots,
+        updates: (0..tree.len()).map(|_| Mutex::new(None)).collect(),
+        pending: tree.child_counts().into_iter().map(AtomicU32::new).collect(),
+        failed: AtomicBool::new(false),
+        error: Mutex::new(None),
+    };
+    let tasks = tree.task_roots(tree.total_work() * TASK_FRACTION);
+    rayon::scope(|scope| {
+        for &root in &tasks {
+            let cx = &cx;
+            scope.spawn(move |_| run_task(root, cx));
+        }
+    });
+    match cx.error.into_inner().unwrap_or_else(|e| e.into_inner()) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// Shared state of one factorization.
+struct Context<'a, T> {
+    sn: &'a SymbolicSupernodalCholesky<usize>,
+    a: &'a PermutedLower<T>,
+    tree: &'a SupernodeTree,
+    /// Each supernode's block of L, taken by the task that factors it.
+    factor: Vec<Mutex<Option<&'a mut [T]>>>,
+    /// Update matrices waiting for their parent.
+    updates: Vec<Mutex<Option<Vec<T>>>>,
+    /// Children of each supernode not yet factored.
+    pending: Vec<AtomicU32>,
+    failed: AtomicBool,
+    error: Mutex<Option<Error>>,
+}
+
+fn lock<U>(m: &Mutex<U>) -> std::sync::MutexGuard<'_, U> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Factors the subtree of `root` in postorder, then climbs towards the root as long as this
+/// task finished the last child of the parent.
+fn run_task<T: ComplexField + Copy + Send + Sync>(root: u32, cx: &Context<'_, T>) {
+    let mut pool = Pool::default();
+    let result = factor_subtree(root, cx, &mut pool).and_then(|()| {
+        let mut s = root;
+        loop {
+            let p = cx.tree.parent[s as usize];
+            if p == NONE || cx.pending[p as usize].fetch_sub(1, Ordering::AcqRel) != 1 {
+                return Ok(());
+            }
+            factor_supernode(p, cx, &mut pool)?;
+            s = p;
+        }
+    });
+    if let Err(e) = result {
+        cx.failed.store(true, Ordering::Relaxed);
+        lock(&cx.error).get_or_insert(e);
+    }
+}
+
+/// Factors every supernode of the subtree of `root`, children before parents.
+fn factor_subtree<T: ComplexField + Copy + Send + Sync>(root: u32, cx: &Context<'_, T>, pool: &mut Pool<T>) -> Result<()> {
+    // Iterative postorder: (supernode, index of the next child to visit).
+    let mut stack = vec![(root, 0usize)];
+    while let Some(&mut (s, ref mut next)) = stack.last_mut() {
+        let children = cx.tree.children(s);
+        if *next < children.len() {
+            let c = children[*next];
+            *next += 1;
+            stack.push((c, 0));
+            continue;
+        }
+        stack.pop();
+        if cx.failed.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        factor_supernode(s, cx, pool)?;
+    }
+    Ok(())
+}
+
+/// Update-matrix buffers of a task, reused so that their memory stays mapped and cached.
+struct Pool<T> {
+    free: Vec<Vec<T>>,
+}
+
+impl<T> Default for Pool<T> {
+    fn default() -> Self {
+        Pool { free: Vec::new() }
+    }
+}
+
+impl<T: ComplexField + Copy> Pool<T> {
+    /// Buffers kept for reuse.
+    const KEEP: usize = 16;
+
+    /// A zeroed buffer of `len` entries.
+    fn take(&mut self, len: usize) -> Vec<T> {
+        let mut buffer = match self.free.iter().position(|b| b.capacity() >= len) {
+            Some(k) => self.free.swap_remove(k),
+            None => self.free.pop().unwrap_or_default(),
+        };
+        buffer.clear();
+        buffer.resize(len, T::zero_impl());
+        buffer
+    }
+
+    fn give(&mut self, buffer: Vec<T>) {
+        if self.free.len() < Self::KEEP {
+            self.free.push(buffer);
+        }
+    }
+}
+
+/// Assembles and factors the front of supernode `s`, leaving its update matrix for the parent.
+fn factor_supernode<T: ComplexField + Copy + Send + Sync>(s: u32, cx: &Context<'_, T>, pool: &mut Pool<T>) -> Result<()> {
+    let sn = cx.sn;
+    let (f, l) = (sn.supernode_begin()[s as usize], sn.supernode_end()[s as usize]);
+    let pattern = sn.supernode(s as usize).pattern();
+    let (w, m) = (l - f, pattern.len());
+    let ld = w + m;
+    let Some(block) = lock(&cx.factor[s as usize]).take() else {
+        return Err(Error::Internal(format!("supernode {s} factored twice")));
+    };
+    block.fill(T::zero_impl());
+    let mut update = pool.take(m * m);
+    assemble_columns(block, ld, f, l, pattern, cx.a);
+    for &c in cx.tree.children(s) {
+        let child = lock(&cx.updates[c as usize]).take();
+        if let Some(child) = child {
+            let child_pattern = cx.sn.supernode(c as usize).pattern();
+            extend_add(block, &mut update, ld, f, l, pattern, &child, child_pattern);
+            pool.give(child);
+        }
+    }
+    let par = if ld * w >= PARALLEL_FRONT { faer::get_global_parallelism() } else { Par::Seq };
+    partial_cholesky(block, &mut update, w, m, par).map_err(|index| {
+        Error::Numerical(format!(
+            "the system matrix is not positive definite (pivot {} of {}); the mesh may have extremely bad triangles",
+            f + index,
+            sn.nrows()
+        ))
+    })?;
+    if m > 0 {
+        *lock(&cx.updates[s as usize]) = Some(update);
+    } else {
+        pool.give(update);
+    }
+    Ok(())
+}
+
+/// Adds the entries of A in columns `f..l` into the front's factor block.
+fn assemble_columns<T: ComplexField + Copy + Send + Sync>(block: &mut [T], ld: usize, f: usize, l: usize, pattern: &[usize], a: &PermutedLower<T>) {
+    for j in f..l {
+        let column = &mut block[(j - f) * ld..(j - f + 1) * ld];
+        for (&i, &v) in a.rows_of(j).iter().zip(a.values_of(j)) {
+            let i = i as usize;
+            let r = if i < l { i - f } else { (l - f) + pattern.partition_point(|&p| p < i) };
+            column[r] += v;
+        }
+    }
+}
+
+/// Adds a child's update matrix (rows `child_pattern`) into the front of supernode `f..l`
+/// (rows `f..l` then `pattern`): columns that fall in `f..l` go to the factor block, the others
+/// to the front's own update matrix.
+#[allow(clippy::too_many_arguments)]
+fn extend_add<T: ComplexField + Copy + Send + Sync>(
+    block: &mut [T],
+    update: &mut [T],
+    ld: usize,
+    f: usize,
+    l: usize,
+    pattern: &[usize],
+    child: &[T],
+    child_pattern: &[usize],
+) {
+    let w = l - f;
+    let m = ld - w;
+    let mc = child_pattern.len();
+    // Position of each child row in the front (both patterns are sorted).
+    let mut position = Vec::with_capacity(mc);
+    let mut k = 0;
+    for &i in child_pattern {
+        if i < l {
+            position.push(i - f);
+        } else {
+            while pattern[k] < i {
+                k += 1;
+            }
+            position.push(w + k);
+        }
+    }
+    for (c2, &j) in position.iter().enumerate() {
+        let source = &child[c2 * mc..(c2 + 1) * mc];
+        if j < w {
+            let column = &mut block[j * ld..(j + 1) * ld];
+            for (&i, &v) in position[c2..].iter().zip(&source[c2..]) {
+                column[i] += v;
+            }
+        } else {
+            let column = &mut update[(j - w) * m..(j - w + 1) * m];
+            for (&i, &v) in position[c2..].iter().zip(&source[c2..]) {
+                column[i - w] += v;
+            }
+        }
+    }
+}
+
+/// Dense partial Cholesky of a front `[F₁₁; F₂₁]` (`w` columns, stored in `block` with leading
+/// dimension `w + m`) and its update block `F₂₂` (`m × m`): `F₁₁ = L₁₁L₁₁ᴴ`,
+/// `L₂₁ = F₂₁L₁₁⁻ᴴ`, `F₂₂ ← F₂₂ − L₂₁L₂₁ᴴ` (lower triangle). Returns the failing pivot's
+/// index on a non-positive pivot.
+fn partial_cholesky<T: ComplexField + Copy + Send + Sync>(block: &mut [T], update: &mut [T], w: usize, m: usize, par: Par) -> std::result::Result<(), usize> {
+    let mut front = MatMut::from_column_major_slice_mut(block, w + m, w);
+    let (mut top, mut bottom) = front.rb_mut().split_at_row_mut(w);
+    let mut mem = MemBuffer::new(cholesky_in_place_scratch::<T>(w, par, Default::default()));
+    match cholesky_in_place(top.rb_mut(), Default::default(), par, MemStack::new(&mut mem), Default::default()) {
+        Ok(_) => {}
+        Err(LltError::NonPositivePivot { index }) => return Err(index),
+    }
+    if m == 0 {
+        return Ok(());
+    }
+    solve_lower_triangular_in_place(top.rb().conjugate(), bottom.rb_mut().transpose_mut(), par);
+    let u = MatMut::from_column_major_slice_mut(update, m, m);
+    matmul(
+        u,
+        BlockStructure::TriangularLower,
+        Accum::Add,
+        bottom.rb(),
+        BlockStructure::Rectangular,
+        bottom.rb().adjoint(),
+        BlockStructure::Rectangular,
+        T::from_f64_impl(-1.0),
+        par,
+    );
+    Ok(())
+}
+
+/// The lower triangle of `P A Pᵀ` in compressed columns (rows unsorted), from the lower
+/// triangle of A and the inverse permutation (`inverse[old] = new`).
+struct PermutedLower<T> {
+    col_ptr: Vec<usize>,
+    rows: Vec<u32>,
+    values: Vec<T>,
+}
+
+impl<T: ComplexField + Copy + Send + Sync> PermutedLower<T> {
+    fn new(lower: SparseColMatRef<'_, usize, T>, inverse: Option<&[usize]>) -> Self {
+        let n = lower.ncols();
+        let new = |i: usize| inverse.map_or(i, |p| p[i]);
+        // Column of each lower entry after permutation: the smaller of the two new indices.
+        let mut col_ptr = vec![0usize; n + 1];
+        for j in 0..n {
+            let pj = new(j);
+            for i in lower.row_idx_of_col_raw(j) {
+                if *i >= j {
+                    col_ptr[new(*i).min(pj) + 1] += 1;
+                }
+            }
+        }
+        for c in 0..n {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        let mut fill = col_ptr.clone();
+        let mut rows = vec![0u32; col_ptr[n]];
+        let mut values = vec![T::zero_impl(); col_ptr[n]];
+        for j in 0..n {
+            let pj = new(j);
+            for (i, v) in lower.row_idx_of_col_raw(j).iter().zip(lower.val_of_col(j)) {
+                if *i < j {
+                    continue;
+                }
+                let pi = new(*i);
+                let (r, c, v) = if pi >= pj { (pi, pj, *v) } else { (pj, pi, T::conj_impl(v)) };
+                rows[fill[c]] = r as u32;
+                values[fill[c]] = v;
+                fill[c] += 1;
+            }
+        }
+        PermutedLower { col_ptr, rows, values }
+    }
+
+    fn rows_of(&self, j: usize) -> &[u32] {
+        &self.rows[self.col_ptr[j]..self.col_ptr[j + 1]]
+    }
+
+    fn values_of(&self, j: usize) -> &[T] {
+        &self.values[self.col_ptr[j]..self.col_ptr[j + 1]]
+    }
+}
+
+/// The supernodal elimination tree: the parent of a supernode is the one holding the first row
+/// of its below-diagonal pattern.
+struct SupernodeTree {
+    parent: Vec<u32>,
+    child_start: Vec<u32>,
+    children: Vec<u32>,
+    /// Flops-like work of each subtree (Σ w·(w + m)² over its supernodes).
+    subtree_work: Vec<f64>,
+}
+
+impl SupernodeTree {
+    fn new(sn: &SymbolicSupernodalCholesky<usize>) -> Self {
+        let count = sn.n_supernodes();
+        let mut owner = vec![0u32; sn.nrows()];
+        for s in 0..count {
+            owner[sn.supernode_begin()[s]..sn.supernode_end()[s]].fill(s as u32);
+        }
+        let parent: Vec<u32> = (0..count).map(|s| sn.supernode(s).pattern().first().map_or(NONE, |&i| owner[i])).collect();
+        let mut child_start = vec![0u32; count + 1];
+        for &p in &parent {
+            if p != NONE {
+                child_start[p as usize + 1] += 1;
+            }
+        }
+        for s in 0..count {
+            child_start[s + 1] += child_start[s];
+        }
+        let mut fill = child_start.clone();
+        let mut children = vec![0u32; child_start[count] as usize];
+        for (s, &p) in parent.iter().enumerate() {
+            if p != NONE {
+                children[fill[p as usize] as usize] = s as u32;
+                fill[p as usize] += 1;
+            }
+        }
+        // Parents come after their children (a parent's columns follow its children's).
+        let mut subtree_work: Vec<f64> = (0..count)
+            .map(|s| {
+                let w = (sn.supernode_end()[s] - sn.supernode_begin()[s]) as f64;
+                let m = sn.supernode(s).pattern().len() as f64;
+                w * (w + m) * (w + m)
+            })
+            .collect();
+        for s in 0..count {
+            if parent[s] != NONE {
+                subtree_work[parent[s] as usize] += subtree_work[s];
+            }
+        }
+        SupernodeTree { parent, child_start, children, subtree_work }
+    }
+
+    fn len(&self) -> usize {
+        self.parent.len()
+    }
+
+    fn children(&self, s: u32) -> &[u32] {
+        &self.children[self.child_start[s as usize] as usize..self.child_start[s as usize + 1] as usize]
+    }
+
+    fn child_counts(&self) -> Vec<u32> {
+        self.child_start.windows(2).map(|w| w[1] - w[0]).collect()
+    }
+
+    fn total_work(&self) -> f64 {
+        (0..self.len()).filter(|&s| self.parent[s] == NONE).map(|s| self.subtree_work[s]).sum()
+    }
+
+    /// Roots of the maximal subtrees lighter than `limit`, plus the leaves of heavier parts
+    /// that have no light subtree below them (a heavy leaf is a task of its own).
+    fn task_roots(&self, limit: f64) -> Vec<u32> {
+        (0..self.len() as u32)
+            .filter(|&s| {
+                let light = self.subtree_work[s as usize] < limit || self.children(s).is_empty();
+                let p = self.parent[s as usize];
+                light && (p == NONE || self.subtree_work[p as usize] >= limit)
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::linalg::{lower_from_entries, CholeskyPattern};
+    use faer::{c64, Mat};
+
+    /// Hermitian positive-definite matrix on a `k × k` grid graph: a shifted Laplacian plus
+    /// an antisymmetric imaginary part on the edges of the first row.
+    type Lower = Vec<(u32, u32, c64)>;
+
+    fn grid_matrix(k: u32) -> (Vec<c64>, Lower, Vec<[f64; 3]>) {
+        let id = |i: u32, j: u32| j * k + i;
+        let n = (k * k) as usize;
+        let mut diagonal = vec![c64::new(0.1, 0.0); n];
+        let mut lower = Vec::new();
+        let mut coords = vec![[0.0; 3]; n];
+        for j in 0..k {
+            for i in 0..k {
+                coords[id(i, j) as usize] = [i as f64, j as f64, 0.0];
+                for (a, b) in [(id(i, j), id(i + 1, j)), (id(i, j), id(i, j + 1)), (id(i, j), id(i + 1, j + 1))] {
+                    if i + 1 >= k && b == id(i + 1, j) || j + 1 >= k && b != id(i + 1, j) || i + 1 >= k && b == id(i + 1, j + 1) {
+                        continue;
+                    }
+                    let w = 1.0 + 0.1 * ((a * 7 + b * 3) % 5) as f64;
+                    diagonal[a as usize].re += w;
+                    diagonal[b as usize].re += w;
+                    let imag = if j == 0 && b == id(i + 1, j) { 0.5 } else { 0.0 };
+                    lower.push((b, a, c64::new(-w, -imag)));
+                }
+            }
+        }
+        (diagonal, lower, coords)
+    }
+
+    #[test]
+    fn multifrontal_factor_solves_a_hermitian_system() {
+        let (diagonal, lower, coords) = grid_matrix(23);
+        let n = diagonal.len();
+        let matrix = lower_from_entries(&diagonal, lower.clone()).expect("matrix");
+        let pattern = CholeskyPattern::new(matrix.symbolic(), Some(&coords)).expect("analysis");
+        let solver = pattern.factor(&matrix).expect("factor");
+        let x_true: Vec<c64> = (0..n).map(|i| c64::new((i as f64 * 0.37).sin(), (i as f64 * 0.11).cos())).collect();
+        // b = A x, with A's upper part from the Hermitian symmetry.
+        let mut b = Mat::<c64>::zeros(n, 1);
+        for i in 0..n {
+            b[(i, 0)] += diagonal[i] * x_true[i];
+        }
+        for &(r, c, v) in &lower {
+            let (r, c) = (r as usize, c as usize);
+            b[(r, 0)] += v * x_true[c];
+            b[(c, 0)] += v.conj() * x_true[r];
+        }
+        solver.solve_in_place(&mut b).expect("solve");
+        for i in 0..n {
+            assert!((b[(i, 0)] - x_true[i]).norm() < 1e-10, "unknown {i}: {} vs {}", b[(i, 0)], x_true[i]);
+        }
+    }
+}
