@@ -102,8 +102,11 @@ pub fn resolve_pins(mesh: &TriMesh, pins: Option<[Pin; 2]>) -> Result<[Pin; 2]> 
 
 fn check_pins(mesh: &TriMesh, pins: [Pin; 2]) -> Result<[Pin; 2]> {
     for (v, p) in pins {
-        if v as usize >= mesh.vertex_count() || !mesh.is_referenced(v) {
-            return Err(Error::InvalidArgument(format!("pinned vertex {v} is not a vertex of the mesh's triangles")));
+        if v as usize >= mesh.vertex_count() {
+            return Err(Error::InvalidArgument(format!("pinned vertex {v} is out of range: the mesh has {} vertices", mesh.vertex_count())));
+        }
+        if !mesh.is_referenced(v) {
+            return Err(Error::InvalidArgument(format!("pinned vertex {v} is not used by any triangle")));
         }
         if !(p[0].is_finite() && p[1].is_finite()) {
             return Err(Error::InvalidArgument(format!("pinned vertex {v} has a non-finite position")));

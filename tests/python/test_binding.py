@@ -520,7 +520,7 @@ def with_entry(triangles: np.ndarray, row: int, value: int) -> np.ndarray:
         (lambda p, t: uvflat.mean_value(p, t, boundary={60: (0, 0)}), r"invalid argument: vertex 60 was given a boundary position but is not on a boundary loop"),
         (lambda p, t: uvflat.mean_value(p, t, boundary={1000: (0, 0)}), r"invalid argument: boundary vertex 1000 does not exist \(the mesh has 131 vertices\)"),
         (lambda p, t: uvflat.natural_conformal_map(p, t, pins=((3, (0, 0)), (3, (1, 0)))), r"invalid argument: the two pins must be different vertices \(both are 3\)"),
-        (lambda p, t: uvflat.natural_conformal_map(p, t, pins=((3, (0, 0)), (500, (1, 0)))), r"invalid argument: pinned vertex 500 is not a vertex of the mesh's triangles"),
+        (lambda p, t: uvflat.natural_conformal_map(p, t, pins=((3, (0, 0)), (500, (1, 0)))), r"invalid argument: pinned vertex 500 is out of range: the mesh has 131 vertices"),
         (lambda p, t: uvflat.metrics(p, t, np.zeros((3, 2))), r"invalid argument: uv_triangles is NULL \(per-vertex UVs\) but uv_count 3 differs from vertex_count 131"),
         (lambda p, t: uvflat.metrics(p, t, np.zeros((3, 2)), with_entry(np.zeros_like(t), 7, 5)), r"invalid argument: triangle 7 references uv 5 but there are 3 uv coordinates"),
         # rejected by the binding before the call
