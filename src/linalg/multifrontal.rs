@@ -17,6 +17,7 @@
 //! does the same arithmetic (the same L up to rounding) with both cores busy.
 //! Cost: the factorization's flops, plus O(Σ_s |P_s|²) memory traffic for the extend-adds.
 
+use super::frontal_lu;
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch, LltError};
@@ -45,26 +46,50 @@ pub fn factorize<T: ComplexField + Copy + Send + Sync>(
     lower: SparseColMatRef<'_, usize, T>,
     values: &mut [T],
 ) -> Result<()> {
+    let inverse = symbolic.perm().map(|p| p.arrays().1);
+    let a = PermutedLower::new(lower, inverse);
+    run(symbolic, Entries::Hermitian(&a), values)
+}
+
+/// What the fronts are assembled from: the lower triangle of a Hermitian matrix, or the two
+/// triangles of a matrix with a symmetric pattern (the upper one transposed), for LU.
+pub(crate) enum Entries<'a, T> {
+    Hermitian(&'a PermutedLower<T>),
+    Lu { lower: &'a PermutedLower<T>, upper_t: &'a PermutedLower<T> },
+}
+
+impl<T> Entries<'_, T> {
+    /// Values stored per entry of the symbolic factor: L, or L and Uᵀ.
+    fn blocks(&self) -> usize {
+        match self {
+            Entries::Hermitian(_) => 1,
+            Entries::Lu { .. } => 2,
+        }
+    }
+}
+
+/// Runs the multifrontal factorization of `entries` on the supernodal structure of
+/// `symbolic`; `values` holds, per supernode, its block of L (and for LU then its block of Uᵀ).
+pub(crate) fn run<T: ComplexField + Copy + Send + Sync>(symbolic: &SymbolicCholesky<usize>, entries: Entries<'_, T>, values: &mut [T]) -> Result<()> {
     let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
         return Err(Error::Internal("the multifrontal factorization needs a supernodal symbolic analysis".into()));
     };
-    if values.len() != sn.len_val() {
-        return Err(Error::Internal(format!("factor storage of {} entries for {} expected", values.len(), sn.len_val())));
+    let blocks = entries.blocks();
+    if values.len() != blocks * sn.len_val() {
+        return Err(Error::Internal(format!("factor storage of {} entries for {} expected", values.len(), blocks * sn.len_val())));
     }
-    let inverse = symbolic.perm().map(|p| p.arrays().1);
-    let a = PermutedLower::new(lower, inverse);
     let tree = SupernodeTree::new(sn);
     let mut slots = Vec::with_capacity(tree.len());
     let mut rest = values;
     for s in 0..tree.len() {
-        let len = sn.col_ptr_for_val()[s + 1] - sn.col_ptr_for_val()[s];
+        let len = blocks * (sn.col_ptr_for_val()[s + 1] - sn.col_ptr_for_val()[s]);
         let (head, tail) = rest.split_at_mut(len);
         slots.push(Mutex::new(Some(head)));
         rest = tail;
     }
     let cx = Context {
         sn,
-        a: &a,
+        entries,
         tree: &tree,
         factor: slots,
         updates: (0..tree.len()).map(|_| Mutex::new(None)).collect(),
@@ -88,7 +113,7 @@ pub fn factorize<T: ComplexField + Copy + Send + Sync>(
 /// Shared state of one factorization.
 struct Context<'a, T> {
     sn: &'a SymbolicSupernodalCholesky<usize>,
-    a: &'a PermutedLower<T>,
+    entries: Entries<'a, T>,
     tree: &'a SupernodeTree,
     /// Each supernode's block of L, taken by the task that factors it.
     factor: Vec<Mutex<Option<&'a mut [T]>>>,
@@ -191,23 +216,35 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(s: u32, cx: &Context<'
     };
     block.fill(T::zero_impl());
     let mut update = pool.take(m * m);
-    assemble_columns(block, ld, f, l, pattern, cx.a);
-    for &c in cx.tree.children(s) {
-        let child = lock(&cx.updates[c as usize]).take();
-        if let Some(child) = child {
-            let child_pattern = cx.sn.supernode(c as usize).pattern();
-            extend_add(block, &mut update, ld, f, l, pattern, &child, child_pattern);
-            pool.give(child);
+    let par = if ld * w >= PARALLEL_FRONT { faer::get_global_parallelism() } else { Par::Seq };
+    let children = cx.tree.children(s).iter().filter_map(|&c| lock(&cx.updates[c as usize]).take().map(|u| (c, u)));
+    match cx.entries {
+        Entries::Hermitian(a) => {
+            assemble_columns(block, ld, f, l, pattern, a);
+            for (c, child) in children {
+                extend_add(block, &mut update, ld, f, l, pattern, &child, cx.sn.supernode(c as usize).pattern());
+                pool.give(child);
+            }
+            partial_cholesky(block, &mut update, w, m, par).map_err(|index| {
+                Error::Numerical(format!(
+                    "the system matrix is not positive definite (pivot {} of {}); the mesh may have extremely bad triangles",
+                    f + index,
+                    sn.nrows()
+                ))
+            })?;
+        }
+        Entries::Lu { lower, upper_t } => {
+            let (l_block, u_block) = block.split_at_mut(ld * w);
+            assemble_columns(l_block, ld, f, l, pattern, lower);
+            frontal_lu::assemble_upper(l_block, u_block, ld, f, l, pattern, upper_t);
+            for (c, child) in children {
+                frontal_lu::extend_add_full(l_block, u_block, &mut update, ld, f, l, pattern, &child, cx.sn.supernode(c as usize).pattern());
+                pool.give(child);
+            }
+            frontal_lu::partial_lu(l_block, u_block, &mut update, w, m, par)
+                .map_err(|index| Error::Numerical(format!("zero or non-finite pivot {} of {} in the LU factorization without pivoting", f + index, sn.nrows())))?;
         }
     }
-    let par = if ld * w >= PARALLEL_FRONT { faer::get_global_parallelism() } else { Par::Seq };
-    partial_cholesky(block, &mut update, w, m, par).map_err(|index| {
-        Error::Numerical(format!(
-            "the system matrix is not positive definite (pivot {} of {}); the mesh may have extremely bad triangles",
-            f + index,
-            sn.nrows()
-        ))
-    })?;
     if m > 0 {
         *lock(&cx.updates[s as usize]) = Some(update);
     } else {
@@ -307,7 +344,7 @@ fn partial_cholesky<T: ComplexField + Copy + Send + Sync>(block: &mut [T], updat
 
 /// The lower triangle of `P A Pᵀ` in compressed columns (rows unsorted), from the lower
 /// triangle of A and the inverse permutation (`inverse[old] = new`).
-struct PermutedLower<T> {
+pub(crate) struct PermutedLower<T> {
     col_ptr: Vec<usize>,
     rows: Vec<u32>,
     values: Vec<T>,
@@ -349,11 +386,54 @@ impl<T: ComplexField + Copy + Send + Sync> PermutedLower<T> {
         PermutedLower { col_ptr, rows, values }
     }
 
-    fn rows_of(&self, j: usize) -> &[u32] {
+    /// The two triangles of `P A Pᵀ` for a matrix `a` with a symmetric pattern (all entries
+    /// stored): the entries on or below the diagonal, and the entries above it transposed, both
+    /// in compressed columns of the permuted numbering (rows unsorted).
+    pub(crate) fn split(a: SparseColMatRef<'_, usize, T>, inverse: Option<&[usize]>) -> (Self, Self) {
+        let n = a.ncols();
+        let new = |i: usize| inverse.map_or(i, |p| p[i]);
+        // (triangle, row, column) of entry (i, j) after permutation.
+        let place = |i: usize, j: usize| {
+            let (pi, pj) = (new(i), new(j));
+            if pi >= pj { (0, pi, pj) } else { (1, pj, pi) }
+        };
+        let mut col_ptr = [vec![0usize; n + 1], vec![0usize; n + 1]];
+        for j in 0..n {
+            for &i in a.row_idx_of_col_raw(j) {
+                let (side, _, c) = place(i, j);
+                col_ptr[side][c + 1] += 1;
+            }
+        }
+        for ptr in &mut col_ptr {
+            for c in 0..n {
+                ptr[c + 1] += ptr[c];
+            }
+        }
+        let mut fill = col_ptr.clone();
+        let mut rows = [vec![0u32; col_ptr[0][n]], vec![0u32; col_ptr[1][n]]];
+        let mut values = [vec![T::zero_impl(); col_ptr[0][n]], vec![T::zero_impl(); col_ptr[1][n]]];
+        for j in 0..n {
+            for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+                let (side, r, c) = place(i, j);
+                rows[side][fill[side][c]] = r as u32;
+                values[side][fill[side][c]] = v;
+                fill[side][c] += 1;
+            }
+        }
+        let [lower_ptr, upper_ptr] = col_ptr;
+        let [lower_rows, upper_rows] = rows;
+        let [lower_values, upper_values] = values;
+        (
+            PermutedLower { col_ptr: lower_ptr, rows: lower_rows, values: lower_values },
+            PermutedLower { col_ptr: upper_ptr, rows: upper_rows, values: upper_values },
+        )
+    }
+
+    pub(crate) fn rows_of(&self, j: usize) -> &[u32] {
         &self.rows[self.col_ptr[j]..self.col_ptr[j + 1]]
     }
 
-    fn values_of(&self, j: usize) -> &[T] {
+    pub(crate) fn values_of(&self, j: usize) -> &[T] {
         &self.values[self.col_ptr[j]..self.col_ptr[j + 1]]
     }
 }

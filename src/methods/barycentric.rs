@@ -196,7 +196,7 @@ fn solve_weighted_system(
     if symmetric {
         CholeskySolver::new(&matrix, Some(coords))?.solve_in_place(&mut rhs)?;
     } else {
-        LuSolver::new(&matrix)?.solve_in_place(&mut rhs);
+        LuSolver::with_coords(&matrix, Some(coords))?.solve_in_place(&mut rhs)?;
     }
     progress.report(0.95)?;
     require_finite(rhs.col_as_slice(0).iter().chain(rhs.col_as_slice(1)).copied(), "fixed-boundary")?;
