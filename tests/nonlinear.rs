@@ -17,7 +17,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use uvflat::error::Error;
-use uvflat::methods::nonlinear::{nonlinear_map, nonlinear_map_with_progress, NonlinearMethod, NonlinearOptions};
+use uvflat::methods::nonlinear::{
+    nonlinear_map, nonlinear_map_with_progress, NonlinearMethod, NonlinearOptions,
+};
 use uvflat::metrics::distortion;
 use uvflat::progress::Progress;
 use uvflat::TriMesh;
@@ -35,7 +37,8 @@ const METHODS: [NonlinearMethod; 6] = [
 ];
 
 fn face_count(path: &Path) -> usize {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let text = std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     text.lines().filter(|l| l.starts_with("f ")).count()
 }
 
@@ -56,7 +59,8 @@ fn disk_meshes() -> Vec<(usize, String)> {
 }
 
 fn load(file: &str) -> TriMesh {
-    let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+    let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(file))
+        .unwrap_or_else(|e| panic!("{file}: {e}"));
     TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"))
 }
 
@@ -75,7 +79,10 @@ fn non_positive_triangles(mesh: &TriMesh, uv: &[[f64; 2]]) -> usize {
 #[test]
 fn every_method_is_flip_free_and_monotone_on_every_disk_mesh() {
     let mut failures = Vec::new();
-    println!("{:<36} {:>7} {:<15} {:>5} {:>12} {:>12} {:>8}", "mesh", "faces", "method", "iters", "E initial", "E final", "seconds");
+    println!(
+        "{:<36} {:>7} {:<15} {:>5} {:>12} {:>12} {:>8}",
+        "mesh", "faces", "method", "iters", "E initial", "E final", "seconds"
+    );
     for (faces, file) in disk_meshes() {
         let mesh = load(&file);
         for method in METHODS {
@@ -91,17 +98,35 @@ fn every_method_is_flip_free_and_monotone_on_every_disk_mesh() {
             };
             let seconds = start.elapsed().as_secs_f64();
             let (e0, e1) = (result.energy[0], *result.energy.last().unwrap());
-            println!("{file:<36} {faces:>7} {:<15} {:>5} {e0:>12.6} {e1:>12.6} {seconds:>8.2}", format!("{method:?}"), result.iterations);
+            println!(
+                "{file:<36} {faces:>7} {:<15} {:>5} {e0:>12.6} {e1:>12.6} {seconds:>8.2}",
+                format!("{method:?}"),
+                result.iterations
+            );
             let bad = non_positive_triangles(&mesh, &result.uv);
-            let m = distortion(mesh.points(), mesh.triangles(), &result.uv, mesh.triangles()).expect("metrics");
+            let m = distortion(
+                mesh.points(),
+                mesh.triangles(),
+                &result.uv,
+                mesh.triangles(),
+            )
+            .expect("metrics");
             if bad != 0 || m.flipped != 0 || m.degenerate_uv != 0 {
-                failures.push(format!("{file} {method:?}: {bad} non-positive, {} flipped, {} degenerate", m.flipped, m.degenerate_uv));
+                failures.push(format!(
+                    "{file} {method:?}: {bad} non-positive, {} flipped, {} degenerate",
+                    m.flipped, m.degenerate_uv
+                ));
             }
             if let Some(w) = result.energy.windows(2).find(|w| !(w[1] <= w[0])) {
-                failures.push(format!("{file} {method:?}: energy increased {} -> {}", w[0], w[1]));
+                failures.push(format!(
+                    "{file} {method:?}: energy increased {} -> {}",
+                    w[0], w[1]
+                ));
             }
             if !(e1 < e0) || result.iterations == 0 {
-                failures.push(format!("{file} {method:?}: energy did not decrease ({e0} -> {e1})"));
+                failures.push(format!(
+                    "{file} {method:?}: energy did not decrease ({e0} -> {e1})"
+                ));
             }
         }
     }
@@ -120,14 +145,27 @@ fn flat_wobbly_disk() -> TriMesh {
             positions.extend([radius * a.cos() * 1.7, radius * a.sin(), 0.0]);
         }
     }
-    let id = |r: u32, s: u32| if r == 0 { 0 } else { 1 + (r - 1) * sectors + s % sectors };
+    let id = |r: u32, s: u32| {
+        if r == 0 {
+            0
+        } else {
+            1 + (r - 1) * sectors + s % sectors
+        }
+    };
     let mut triangles = Vec::new();
     for s in 0..sectors {
         triangles.extend([0, id(1, s), id(1, s + 1)]);
     }
     for r in 1..rings {
         for s in 0..sectors {
-            triangles.extend([id(r, s), id(r + 1, s), id(r + 1, s + 1), id(r, s), id(r + 1, s + 1), id(r, s + 1)]);
+            triangles.extend([
+                id(r, s),
+                id(r + 1, s),
+                id(r + 1, s + 1),
+                id(r, s),
+                id(r + 1, s + 1),
+                id(r, s + 1),
+            ]);
         }
     }
     TriMesh::new(&positions, &triangles).expect("valid disk")
@@ -143,7 +181,10 @@ fn slim_and_arap_recover_the_isometry_of_a_flat_mesh() {
         let result = nonlinear_map(&mesh, &options).expect("map");
         let (e0, e1) = (result.energy[0], *result.energy.last().unwrap());
         // (ARAP starts from the natural conformal map, which is already the isometry here.)
-        assert!(e1 - minimum < 1e-10 || e1 - minimum < 1e-6 * (e0 - minimum), "{method:?}: energy {e0} -> {e1}, minimum {minimum}");
+        assert!(
+            e1 - minimum < 1e-10 || e1 - minimum < 1e-6 * (e0 - minimum),
+            "{method:?}: energy {e0} -> {e1}, minimum {minimum}"
+        );
         assert_eq!(non_positive_triangles(&mesh, &result.uv), 0);
     }
 }
@@ -157,9 +198,19 @@ fn a_cancelling_callback_stops_within_one_iteration() {
             calls += 1;
             calls < 5
         };
-        let result = nonlinear_map_with_progress(&mesh, &NonlinearOptions::new(method), &mut Progress::new(&mut callback));
-        assert!(matches!(result, Err(Error::Cancelled)), "{method:?}: {result:?}");
-        assert_eq!(calls, 5, "{method:?}: the callback was called after it cancelled");
+        let result = nonlinear_map_with_progress(
+            &mesh,
+            &NonlinearOptions::new(method),
+            &mut Progress::new(&mut callback),
+        );
+        assert!(
+            matches!(result, Err(Error::Cancelled)),
+            "{method:?}: {result:?}"
+        );
+        assert_eq!(
+            calls, 5,
+            "{method:?}: the callback was called after it cancelled"
+        );
     }
 }
 
@@ -171,7 +222,12 @@ fn results_are_deterministic() {
         options.iterations = 10;
         let a = nonlinear_map(&mesh, &options).expect("map");
         let b = nonlinear_map(&mesh, &options).expect("map");
-        assert!(a.uv.iter().zip(&b.uv).all(|(p, q)| p[0].to_bits() == q[0].to_bits() && p[1].to_bits() == q[1].to_bits()), "{method:?}");
+        assert!(
+            a.uv.iter()
+                .zip(&b.uv)
+                .all(|(p, q)| p[0].to_bits() == q[0].to_bits() && p[1].to_bits() == q[1].to_bits()),
+            "{method:?}"
+        );
     }
 }
 
@@ -180,8 +236,14 @@ fn invalid_options_are_rejected() {
     let mesh = flat_wobbly_disk();
     let mut options = NonlinearOptions::new(NonlinearMethod::Degener);
     options.theta = 0.0;
-    assert!(matches!(nonlinear_map(&mesh, &options), Err(Error::InvalidArgument(_))));
+    assert!(matches!(
+        nonlinear_map(&mesh, &options),
+        Err(Error::InvalidArgument(_))
+    ));
     let mut options = NonlinearOptions::new(NonlinearMethod::Slim);
     options.tolerance = f64::NAN;
-    assert!(matches!(nonlinear_map(&mesh, &options), Err(Error::InvalidArgument(_))));
+    assert!(matches!(
+        nonlinear_map(&mesh, &options),
+        Err(Error::InvalidArgument(_))
+    ));
 }
