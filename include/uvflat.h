@@ -75,6 +75,56 @@
 #define UVF_DISTRIBUTION_CENTRIPETAL 2
 
 /**
+ * Symmetric Dirichlet energy minimized by SLIM (Rabinovich et al. 2017).
+ */
+#define UVF_NONLINEAR_SLIM 0
+
+/**
+ * As-rigid-as-possible, local-global (Liu et al. 2008).
+ */
+#define UVF_NONLINEAR_ARAP 1
+
+/**
+ * MIPS (Hormann & Greiner 2000), conformal.
+ */
+#define UVF_NONLINEAR_MIPS 2
+
+/**
+ * L2 stretch (Sander et al. 2001).
+ */
+#define UVF_NONLINEAR_STRETCH 3
+
+/**
+ * Green–Lagrange deformation tensor (Maillot et al. 1993).
+ */
+#define UVF_NONLINEAR_GREEN_LAGRANGE 4
+
+/**
+ * Degener et al. 2003 θ-energy (angle × area^θ).
+ */
+#define UVF_NONLINEAR_DEGENER 5
+
+/**
+ * Largest fraction of the total weight one side may take.
+ */
+#define MAX_SIDE_FRACTION 0.55
+
+/**
+ * Side 0, side 1, or separator, for every vertex.
+ */
+#define SEPARATOR 2
+
+/**
+ * Vertex numbers must fit in 31 bits for the packed edge keys.
+ */
+#define MAX_VERTICES (1 << 31)
+
+/**
+ * Fraction of the maximal flip-free step tried first (Smith & Schaefer 2015).
+ */
+#define MAX_STEP_FRACTION 0.8
+
+/**
  * Status codes of the C ABI. `Ok` is 0; every failure class has its own code.
  */
 typedef enum UvfStatus {
@@ -301,6 +351,65 @@ typedef struct UvfMetrics {
   double area_max;
 } UvfMetrics;
 
+/**
+ * Options of `uvf_nonlinear_map`. Initialise with `uvf_nonlinear_options_default`.
+ */
+typedef struct UvfNonlinearOptions {
+  /**
+   * `sizeof(UvfNonlinearOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * One of `UVF_NONLINEAR_*` (default `UVF_NONLINEAR_SLIM`).
+   */
+  uint32_t method;
+  /**
+   * Maximum number of iterations (default 100).
+   */
+  uint32_t iterations;
+  /**
+   * Stop when an iteration lowers the energy by less than `tolerance × energy` (default
+   * 1e-7; must be ≥ 0).
+   */
+  double tolerance;
+  /**
+   * θ of `UVF_NONLINEAR_DEGENER` (default 3; must be > 0).
+   */
+  double theta;
+  /**
+   * Optional progress callback (may be NULL), called once per iteration; returning
+   * non-zero cancels within that iteration.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfNonlinearOptions;
+
+/**
+ * What `uvf_nonlinear_map` reports about its run.
+ */
+typedef struct UvfNonlinearReport {
+  /**
+   * Iterations done.
+   */
+  uint32_t iterations;
+  /**
+   * 1 when the tolerance was reached or no step could lower the energy; 0 when the
+   * iteration limit stopped the method.
+   */
+  uint32_t converged;
+  /**
+   * Energy of the starting map (3D-area-weighted mean of the method's local measure).
+   */
+  double initial_energy;
+  /**
+   * Energy of the returned map (never above `initial_energy`).
+   */
+  double final_energy;
+} UvfNonlinearReport;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -450,6 +559,51 @@ enum UvfStatus uvf_metrics(const double *positions,
                            size_t uv_count,
                            const uint32_t *uv_triangles,
                            struct UvfMetrics *out);
+
+/**
+ * Fills `options` with defaults (SLIM, 100 iterations, tolerance 1e-7, θ = 3).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_nonlinear_options_default(struct UvfNonlinearOptions *options);
+
+/**
+ * Distortion-minimizing parameterization with a free boundary that never flips a triangle.
+ *
+ * Starts from the mean value map with a circle boundary (bijective; ARAP: from the natural
+ * conformal map when it has no flipped triangle), scaled to the input's area, and minimizes
+ * the method's energy (local measure of the Jacobian's singular values σ1 ≥ σ2, weighted by
+ * 3D area; course notes §4.3–4.4) with a line search that stops every step before any
+ * triangle's signed area reaches zero (Smith & Schaefer 2015), so the result has no flipped
+ * triangle and the energy decreases monotonically:
+ * - `UVF_NONLINEAR_SLIM`: symmetric Dirichlet σ1² + σ1⁻² + σ2² + σ2⁻², by SLIM's reweighted
+ *   local-global proxy (Rabinovich et al. 2017 eq. 8–9).
+ * - `UVF_NONLINEAR_ARAP`: (σ1 − 1)² + (σ2 − 1)², local-global (Liu et al. 2008 eq. 3–6).
+ * - `UVF_NONLINEAR_MIPS`: σ1/σ2 + σ2/σ1 (Hormann & Greiner 2000).
+ * - `UVF_NONLINEAR_STRETCH`: Sander et al. 2001 L2 stretch (squared, scale-normalized).
+ * - `UVF_NONLINEAR_GREEN_LAGRANGE`: (σ1² − 1)² + (σ2² − 1)² (Maillot et al. 1993).
+ * - `UVF_NONLINEAR_DEGENER`: (σ1/σ2 + σ2/σ1)(σ1σ2 + 1/(σ1σ2))^θ (Degener et al. 2003).
+ *
+ * The last four use L-BFGS preconditioned by the cotangent Laplacian.
+ *
+ * `uv_out` receives 2 doubles per vertex (`vertex_count` pairs); unreferenced vertices get
+ * NaN. `options` may be NULL for defaults; `report_out` may be NULL. Results are
+ * deterministic. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (unknown method, tolerance < 0,
+ * θ ≤ 0, bad pointers), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (not a single genus-0
+ * component with a boundary), `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`,
+ * `UVF_INTERNAL_ERROR`. On failure `uv_out` and `report_out` are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_nonlinear_map(const double *positions,
+                                 size_t vertex_count,
+                                 const uint32_t *triangles,
+                                 size_t triangle_count,
+                                 const struct UvfNonlinearOptions *options,
+                                 double *uv_out,
+                                 struct UvfNonlinearReport *report_out);
 
 #ifdef __cplusplus
 }  // extern "C"

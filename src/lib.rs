@@ -44,6 +44,7 @@ pub use error::{Error, Result};
 pub use mesh::TriMesh;
 pub use methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions, Weights};
 pub use methods::conformal::natural_conformal_map;
+pub use methods::nonlinear::{nonlinear_map, NonlinearMethod, NonlinearOptions};
 
 /// Crate version, as reported by `uvf_version()`.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -11,6 +11,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use uvflat::io::obj::{read_obj, write_obj_with_uv, ObjMesh};
 use uvflat::io::svg::write_uv_svg;
 use uvflat::methods::conformal::Pin;
+use uvflat::methods::nonlinear::{nonlinear_map, NonlinearMethod, NonlinearOptions};
 use uvflat::metrics::{distortion, Metrics};
 use uvflat::{
     fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, Error, FixedBoundaryOptions, TriMesh,
@@ -73,6 +74,12 @@ struct UnwrapArgs {
     /// vertices farthest apart.
     #[arg(long = "pin")]
     pins: Vec<u32>,
+    /// Iteration limit of the non-linear methods (slim, arap, mips, ...); default 100.
+    #[arg(long)]
+    iterations: Option<usize>,
+    /// θ of the degener method (weight of area against angle distortion); default 3.
+    #[arg(long)]
+    theta: Option<f64>,
     /// Also draw the UV layout into this SVG file.
     #[arg(long)]
     svg: Option<PathBuf>,
@@ -90,10 +97,31 @@ enum MethodName {
     MeanValue,
     Intrinsic,
     NaturalConformal,
+    Slim,
+    Arap,
+    Mips,
+    Stretch,
+    GreenLagrange,
+    Degener,
+}
+
+impl MethodName {
+    /// The distortion-minimizing method, for the free-boundary non-linear methods.
+    fn nonlinear(self) -> Option<NonlinearMethod> {
+        Some(match self {
+            MethodName::Slim => NonlinearMethod::Slim,
+            MethodName::Arap => NonlinearMethod::Arap,
+            MethodName::Mips => NonlinearMethod::Mips,
+            MethodName::Stretch => NonlinearMethod::Stretch,
+            MethodName::GreenLagrange => NonlinearMethod::GreenLagrange,
+            MethodName::Degener => NonlinearMethod::Degener,
+            _ => return None,
+        })
+    }
 }
 
 /// Each method's CLI name and one-line description, as `uvflat methods` prints them.
-const METHODS: [(MethodName, &str, &str); 7] = [
+const METHODS: [(MethodName, &str, &str); 13] = [
     (MethodName::Tutte, "tutte", "fixed boundary, uniform weights (Tutte 1963); never flips with a convex boundary"),
     (MethodName::Floater, "floater", "fixed boundary, Floater's shape-preserving weights (1997); never flips"),
     (MethodName::Authalic, "authalic", "fixed boundary, discrete authalic = Wachspress (Desbrun et al. 2002 eq. 6)"),
@@ -105,6 +133,12 @@ const METHODS: [(MethodName, &str, &str); 7] = [
         "natural-conformal",
         "free boundary, natural conformal map = LSCM (Desbrun et al. 2002 eq. 7); the default",
     ),
+    (MethodName::Slim, "slim", "free boundary, symmetric Dirichlet by SLIM (Rabinovich et al. 2017); never flips"),
+    (MethodName::Arap, "arap", "free boundary, as-rigid-as-possible local-global (Liu et al. 2008); never flips"),
+    (MethodName::Mips, "mips", "free boundary, MIPS conformal energy (Hormann & Greiner 2000); never flips"),
+    (MethodName::Stretch, "stretch", "free boundary, L2 stretch (Sander et al. 2001); never flips"),
+    (MethodName::GreenLagrange, "green-lagrange", "free boundary, Green-Lagrange tensor (Maillot et al. 1993); never flips"),
+    (MethodName::Degener, "degener", "free boundary, Degener et al. 2003 angle x area^theta energy; never flips"),
 ];
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -206,8 +240,15 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
 /// Rejects options that do not apply to the chosen method, so nothing is silently ignored.
 fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
     let free = args.method == MethodName::NaturalConformal;
-    if free && (args.boundary.is_some() || args.distribution.is_some()) {
-        return Err(usage("--boundary and --distribution apply to fixed-boundary methods, not natural-conformal"));
+    let nonlinear = args.method.nonlinear().is_some();
+    if (free || nonlinear) && (args.boundary.is_some() || args.distribution.is_some()) {
+        return Err(usage(format!("--boundary and --distribution apply to fixed-boundary methods, not {}", method_label(args.method))));
+    }
+    if !nonlinear && args.iterations.is_some() {
+        return Err(usage("--iterations applies to the non-linear methods (slim, arap, mips, stretch, green-lagrange, degener)"));
+    }
+    if args.method != MethodName::Degener && args.theta.is_some() {
+        return Err(usage("--theta applies to --method degener only"));
     }
     if !free && !args.pins.is_empty() {
         return Err(usage("--pin applies to --method natural-conformal only"));
@@ -222,8 +263,20 @@ fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
 }
 
 fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<Vec<[f64; 2]>, Failure> {
+    if let Some(method) = args.method.nonlinear() {
+        let mut options = NonlinearOptions::new(method);
+        options.iterations = args.iterations.unwrap_or(options.iterations);
+        options.theta = args.theta.unwrap_or(options.theta);
+        return Ok(nonlinear_map(mesh, &options)?.uv);
+    }
     let weights = match args.method {
         MethodName::NaturalConformal => return Ok(natural_conformal_map(mesh, cli_pins(mesh, &args.pins)?)?),
+        MethodName::Slim
+        | MethodName::Arap
+        | MethodName::Mips
+        | MethodName::Stretch
+        | MethodName::GreenLagrange
+        | MethodName::Degener => return Err(Failure { message: "internal: non-linear method not dispatched".into(), usage: false }),
         MethodName::Tutte => Weights::Uniform,
         MethodName::Floater => Weights::Floater,
         MethodName::Authalic => Weights::Authalic,

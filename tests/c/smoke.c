@@ -116,6 +116,56 @@ static void check_corner_metrics(const double *positions, size_t nv, const uint3
           "per-vertex UV count must match the vertex count");
 }
 
+static int cancel_at_third_call(void *user, double fraction) {
+    int *calls = (int *)user;
+    (void)fraction;
+    (*calls)++;
+    return *calls >= 3;
+}
+
+/* uvf_nonlinear_map: every method keeps every triangle positively oriented, lowers its energy,
+ * reports its run; cancellation, bad options. */
+static void check_nonlinear(const double *positions, size_t nv, const uint32_t *triangles, size_t nt, double *uv) {
+    static const uint32_t methods[6] = {UVF_NONLINEAR_SLIM, UVF_NONLINEAR_ARAP, UVF_NONLINEAR_MIPS,
+                                        UVF_NONLINEAR_STRETCH, UVF_NONLINEAR_GREEN_LAGRANGE, UVF_NONLINEAR_DEGENER};
+    UvfNonlinearOptions options;
+    UvfNonlinearReport report;
+    UvfStatus status;
+    size_t m, t;
+    int calls = 0;
+    for (m = 0; m < 6; m++) {
+        int positive = 1;
+        uvf_nonlinear_options_default(&options);
+        check(options.struct_size == sizeof options && options.iterations > 0 && options.theta == 3.0,
+              "nonlinear defaults");
+        options.method = methods[m];
+        options.iterations = 20;
+        status = uvf_nonlinear_map(positions, nv, triangles, nt, &options, uv, &report);
+        check(status == UVF_OK, "uvf_nonlinear_map succeeds");
+        for (t = 0; t < nt; t++) {
+            const double *a = uv + 2 * triangles[3 * t], *b = uv + 2 * triangles[3 * t + 1], *c = uv + 2 * triangles[3 * t + 2];
+            if (!((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0.0)) positive = 0;
+        }
+        check(positive, "uvf_nonlinear_map flips no triangle");
+        check(report.iterations > 0 && report.final_energy < report.initial_energy, "uvf_nonlinear_map lowers its energy");
+    }
+    check(uvf_nonlinear_map(positions, nv, triangles, nt, NULL, uv, NULL) == UVF_OK, "NULL options and report");
+
+    uvf_nonlinear_options_default(&options);
+    options.progress = cancel_at_third_call;
+    options.progress_user = &calls;
+    status = uvf_nonlinear_map(positions, nv, triangles, nt, &options, uv, NULL);
+    check(status == UVF_CANCELLED && calls == 3, "nonlinear progress callback cancels at once");
+
+    uvf_nonlinear_options_default(&options);
+    options.method = 99;
+    check(uvf_nonlinear_map(positions, nv, triangles, nt, &options, uv, NULL) == UVF_INVALID_ARGUMENT, "unknown nonlinear method");
+    uvf_nonlinear_options_default(&options);
+    options.method = UVF_NONLINEAR_DEGENER;
+    options.theta = -1.0;
+    check(uvf_nonlinear_map(positions, nv, triangles, nt, &options, uv, NULL) == UVF_INVALID_ARGUMENT, "theta <= 0 rejected");
+}
+
 int main(void) {
     static double positions[3 * N * N];
     static uint32_t triangles[6 * (N - 1) * (N - 1)];
@@ -186,6 +236,7 @@ int main(void) {
     check_topology_queries(positions, nv, triangles, nt);
     check_options_and_counts(positions, nv, triangles, nt, uv);
     check_corner_metrics(positions, nv, triangles, nt, uv);
+    check_nonlinear(positions, nv, triangles, nt, uv);
 
     if (failures == 0) printf("all C checks passed\n");
     return failures == 0 ? 0 : 1;
