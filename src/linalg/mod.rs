@@ -4,6 +4,7 @@
 //! positive-definite systems, and sparse LU for the others. A factorization is an object, so a
 //! method that solves several times factors once.
 
+pub mod lagrange;
 pub mod multifrontal;
 pub mod ordering;
 

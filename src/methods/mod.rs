@@ -4,3 +4,6 @@
 pub mod barycentric;
 pub mod conformal;
 pub mod floater;
+pub mod constraints;
+pub mod fixed_system;
+pub mod intrinsic;
