@@ -173,3 +173,66 @@ fn more_than_two_pins_are_honoured_and_satisfied_ones_change_nothing() {
     let conflicting: Vec<Pin> = vec![pins[0], pins[1], (pins[1].0, [0.0, 5.0])];
     assert!(matches!(pinned_natural_conformal_map(&mesh, &conflicting, &mut Progress::none()), Err(Error::InvalidArgument(_))));
 }
+
+// ---------------------------------------------------------------------------------------------
+// Boundary editor (§4.2)
+
+use uvflat::methods::intrinsic::BoundaryEditor;
+
+/// The boundary loop of the editor moved to a wobbly star: a non-trivial boundary.
+fn star_boundary(editor: &BoundaryEditor, phase: f64) -> Vec<[f64; 2]> {
+    let b = editor.boundary_vertices().len() as f64;
+    (0..editor.boundary_vertices().len())
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / b;
+            let r = 1.0 + 0.2 * (5.0 * a + phase).cos();
+            [r * a.cos(), r * a.sin()]
+        })
+        .collect()
+}
+
+#[test]
+fn editor_solve_equals_a_fresh_fixed_boundary_solve_and_the_green_basis_sum() {
+    for (file, lambda, mu) in [("disk_nefertiti_small.obj", 1.0, 0.0), ("disk_nefertiti_small.obj", 0.3, 0.7), ("holes_annulus.obj", 0.5, 0.5)] {
+        let mesh = load(file);
+        let editor = BoundaryEditor::new(&mesh, lambda, mu, &mut Progress::none()).expect("editor");
+        let basis = editor.green_basis(1 << 30, &mut Progress::none()).expect("basis");
+        for phase in [0.0, 1.0] {
+            let boundary = star_boundary(&editor, phase);
+            let uv = editor.solve(&boundary).expect("editor solve");
+            let given: Vec<(u32, [f64; 2])> = editor.boundary_vertices().iter().copied().zip(boundary.iter().copied()).collect();
+            let options = FixedBoundaryOptions {
+                weights: Weights::Intrinsic { lambda, mu },
+                shape: BoundaryShape::Given(given),
+                distribution: Distribution::Uniform,
+            };
+            let fresh = fixed_boundary_map(&mesh, &options).expect("fresh solve");
+            let d = max_difference(&uv, &fresh);
+            assert!(d <= 1e-9, "{file} λ={lambda} μ={mu}: editor vs fresh solve differ by {d:e}");
+            let summed = basis.evaluate(&boundary);
+            let d = max_difference(&summed, &fresh);
+            assert!(d <= 1e-9, "{file} λ={lambda} μ={mu}: Green basis sum vs fresh solve differ by {d:e}");
+        }
+        // Memory cap and bad input.
+        let bytes = editor.green_basis_bytes().expect("size");
+        assert!(matches!(editor.green_basis(bytes - 1, &mut Progress::none()), Err(Error::InvalidArgument(_))));
+        assert!(matches!(editor.solve(&[[0.0, 0.0]]), Err(Error::InvalidArgument(_))));
+    }
+}
+
+#[test]
+fn concurrent_editor_solves_agree_with_sequential_ones() {
+    let mesh = load("disk_spothead.obj");
+    let editor = BoundaryEditor::new(&mesh, 1.0, 0.0, &mut Progress::none()).expect("editor");
+    let expected: Vec<Vec<[f64; 2]>> = (0..4).map(|k| editor.solve(&star_boundary(&editor, k as f64)).expect("solve")).collect();
+    std::thread::scope(|s| {
+        let handles: Vec<_> = (0..4).map(|k| {
+            let editor = &editor;
+            s.spawn(move || editor.solve(&star_boundary(editor, k as f64)).expect("solve"))
+        }).collect();
+        for (k, h) in handles.into_iter().enumerate() {
+            let d = max_difference(&h.join().expect("thread"), &expected[k]);
+            assert!(d <= 1e-12, "concurrent solve {k} differs by {d:e}");
+        }
+    });
+}
