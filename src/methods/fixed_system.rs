@@ -82,6 +82,8 @@ impl FixedSystem {
     /// Replaces `rhs` (any number of columns) by `A⁻¹ rhs`.
     pub fn solve_in_place(&self, rhs: &mut Mat<f64>) -> Result<()> {
         match &self.factor {
+            // Few columns: sequential triangular solves beat rayon's per-supernode overhead.
+            Factor::Cholesky(c) if rhs.ncols() <= 4 => c.solve_in_place_with(rhs, faer::Par::Seq)?,
             Factor::Cholesky(c) => c.solve_in_place(rhs)?,
             Factor::Lu(lu) => lu.solve_in_place(rhs),
         }
