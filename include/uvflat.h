@@ -75,36 +75,6 @@
 #define UVF_DISTRIBUTION_CENTRIPETAL 2
 
 /**
- * Symmetric Dirichlet energy minimized by SLIM (Rabinovich et al. 2017).
- */
-#define UVF_NONLINEAR_SLIM 0
-
-/**
- * As-rigid-as-possible, local-global (Liu et al. 2008).
- */
-#define UVF_NONLINEAR_ARAP 1
-
-/**
- * MIPS (Hormann & Greiner 2000), conformal.
- */
-#define UVF_NONLINEAR_MIPS 2
-
-/**
- * L2 stretch (Sander et al. 2001).
- */
-#define UVF_NONLINEAR_STRETCH 3
-
-/**
- * Green–Lagrange deformation tensor (Maillot et al. 1993).
- */
-#define UVF_NONLINEAR_GREEN_LAGRANGE 4
-
-/**
- * Degener et al. 2003 θ-energy (angle × area^θ).
- */
-#define UVF_NONLINEAR_DEGENER 5
-
-/**
  * Largest fraction of the total weight one side may take.
  */
 #define MAX_SIDE_FRACTION 0.55
@@ -118,11 +88,6 @@
  * Vertex numbers must fit in 31 bits for the packed edge keys.
  */
 #define MAX_VERTICES (1 << 31)
-
-/**
- * Fraction of the maximal flip-free step tried first (Smith & Schaefer 2015).
- */
-#define MAX_STEP_FRACTION 0.8
 
 /**
  * Status codes of the C ABI. `Ok` is 0; every failure class has its own code.
@@ -168,52 +133,35 @@ typedef enum UvfStatus {
 } UvfStatus;
 
 /**
- * Counts and topological invariants of a mesh.
+ * A factored intrinsic map whose boundary can be moved (opaque; create with
+ * `uvf_boundary_editor_new`, free with `uvf_boundary_editor_free`).
  */
-typedef struct UvfMeshInfo {
-  /**
-   * Vertices in the input arrays (including unreferenced ones).
-   */
-  size_t vertices;
-  /**
-   * Vertices used by at least one triangle.
-   */
-  size_t referenced_vertices;
-  /**
-   * Triangles.
-   */
-  size_t triangles;
-  /**
-   * Undirected edges.
-   */
-  size_t edges;
-  /**
-   * Connected components.
-   */
-  size_t components;
-  /**
-   * Boundary loops.
-   */
-  size_t boundary_loops;
-  /**
-   * Total number of vertices over all boundary loops (size of `uvf_boundary_loops` output).
-   */
-  size_t boundary_vertices;
-  /**
-   * Euler characteristic V − E + F.
-   */
-  int64_t euler_characteristic;
-  /**
-   * Total genus.
-   */
-  int64_t genus;
-} UvfMeshInfo;
+typedef struct UvfBoundaryEditor UvfBoundaryEditor;
 
 /**
  * Progress callback: receives the caller's `user` pointer and the fraction done in [0, 1];
  * returning non-zero cancels the computation (the call then returns `UVF_CANCELLED`).
  */
 typedef int (*UvfProgressFn)(void *user, double fraction);
+
+/**
+ * Options of the constrained natural conformal maps and of the boundary editor. Initialise
+ * with `uvf_intrinsic_tool_options_default`.
+ */
+typedef struct UvfIntrinsicToolOptions {
+  /**
+   * `sizeof(UvfIntrinsicToolOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * Optional progress callback (may be NULL).
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfIntrinsicToolOptions;
 
 /**
  * Options of `uvf_fixed_boundary_map`. Initialise with `uvf_fixed_boundary_options_default`.
@@ -264,6 +212,67 @@ typedef struct UvfFixedBoundaryOptions {
    */
   void *progress_user;
 } UvfFixedBoundaryOptions;
+
+/**
+ * A point of the surface (triangle index and barycentric coordinates with respect to its
+ * three corners, normalized by their sum) and the UV it must map to.
+ */
+typedef struct UvfPointConstraint {
+  /**
+   * Triangle index (< triangle_count).
+   */
+  uint32_t triangle;
+  /**
+   * Barycentric coordinates of the point (must not sum to zero).
+   */
+  double barycentric[3];
+  /**
+   * Target UV.
+   */
+  double uv[2];
+} UvfPointConstraint;
+
+/**
+ * Counts and topological invariants of a mesh.
+ */
+typedef struct UvfMeshInfo {
+  /**
+   * Vertices in the input arrays (including unreferenced ones).
+   */
+  size_t vertices;
+  /**
+   * Vertices used by at least one triangle.
+   */
+  size_t referenced_vertices;
+  /**
+   * Triangles.
+   */
+  size_t triangles;
+  /**
+   * Undirected edges.
+   */
+  size_t edges;
+  /**
+   * Connected components.
+   */
+  size_t components;
+  /**
+   * Boundary loops.
+   */
+  size_t boundary_loops;
+  /**
+   * Total number of vertices over all boundary loops (size of `uvf_boundary_loops` output).
+   */
+  size_t boundary_vertices;
+  /**
+   * Euler characteristic V − E + F.
+   */
+  int64_t euler_characteristic;
+  /**
+   * Total genus.
+   */
+  int64_t genus;
+} UvfMeshInfo;
 
 /**
  * Options of `uvf_natural_conformal_map`. Initialise with
@@ -351,65 +360,6 @@ typedef struct UvfMetrics {
   double area_max;
 } UvfMetrics;
 
-/**
- * Options of `uvf_nonlinear_map`. Initialise with `uvf_nonlinear_options_default`.
- */
-typedef struct UvfNonlinearOptions {
-  /**
-   * `sizeof(UvfNonlinearOptions)`, set by the default initialiser.
-   */
-  size_t struct_size;
-  /**
-   * One of `UVF_NONLINEAR_*` (default `UVF_NONLINEAR_SLIM`).
-   */
-  uint32_t method;
-  /**
-   * Maximum number of iterations (default 100).
-   */
-  uint32_t iterations;
-  /**
-   * Stop when an iteration lowers the energy by less than `tolerance × energy` (default
-   * 1e-7; must be ≥ 0).
-   */
-  double tolerance;
-  /**
-   * θ of `UVF_NONLINEAR_DEGENER` (default 3; must be > 0).
-   */
-  double theta;
-  /**
-   * Optional progress callback (may be NULL), called once per iteration; returning
-   * non-zero cancels within that iteration.
-   */
-  UvfProgressFn progress;
-  /**
-   * Passed to `progress` unchanged.
-   */
-  void *progress_user;
-} UvfNonlinearOptions;
-
-/**
- * What `uvf_nonlinear_map` reports about its run.
- */
-typedef struct UvfNonlinearReport {
-  /**
-   * Iterations done.
-   */
-  uint32_t iterations;
-  /**
-   * 1 when the tolerance was reached or no step could lower the energy; 0 when the
-   * iteration limit stopped the method.
-   */
-  uint32_t converged;
-  /**
-   * Energy of the starting map (3D-area-weighted mean of the method's local measure).
-   */
-  double initial_energy;
-  /**
-   * Energy of the returned map (never above `initial_energy`).
-   */
-  double final_energy;
-} UvfNonlinearReport;
-
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -429,6 +379,202 @@ const char *uvf_version(void);
  * ABI version of the loaded library; compare with `UVF_ABI_VERSION` from the header.
  */
 uint32_t uvf_abi_version(void);
+
+/**
+ * Fills `options` with defaults (no progress callback).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_intrinsic_tool_options_default(struct UvfIntrinsicToolOptions *options);
+
+/**
+ * Fixed-boundary map with point constraints (Desbrun et al. 2002 §4.1, Lagrange multipliers):
+ * the map of `uvf_fixed_boundary_map` (same `options`, any weights and boundary) with each of
+ * the `constraint_count` points of `constraints` placed exactly on its target. Already
+ * satisfied constraints leave the map unchanged.
+ *
+ * `uv_out` receives 2 doubles per vertex. Returns `UVF_OK`; `UVF_INVALID_ARGUMENT` for a bad
+ * pointer, option, triangle index, zero-sum barycentric coordinates, a non-finite target, or
+ * conflicting constraints (linearly dependent ones with different targets, or a point whose
+ * triangle lies entirely on the fixed boundary given another position — the message names the
+ * constraint); `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`, `UVF_NUMERICAL_FAILURE`,
+ * `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure `uv_out` is untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_constrained_fixed_boundary_map(const double *positions,
+                                                  size_t vertex_count,
+                                                  const uint32_t *triangles,
+                                                  size_t triangle_count,
+                                                  const struct UvfFixedBoundaryOptions *options,
+                                                  const struct UvfPointConstraint *constraints,
+                                                  size_t constraint_count,
+                                                  double *uv_out);
+
+/**
+ * Natural conformal map (Desbrun et al. 2002 §4.2 eq. 7 = LSCM) with point constraints
+ * instead of two pins (§4.1): minimizes the conformal energy subject to every constraint.
+ * Needs at least 2 constraints, not all with the same target; two vertex constraints give
+ * the 2-pin natural conformal map.
+ *
+ * `uv_out` receives 2 doubles per vertex (NaN for unreferenced vertices); `options` may be
+ * NULL. Statuses as `uvf_constrained_fixed_boundary_map`.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_constrained_natural_conformal_map(const double *positions,
+                                                     size_t vertex_count,
+                                                     const uint32_t *triangles,
+                                                     size_t triangle_count,
+                                                     const struct UvfPointConstraint *constraints,
+                                                     size_t constraint_count,
+                                                     const struct UvfIntrinsicToolOptions *options,
+                                                     double *uv_out);
+
+/**
+ * Natural conformal map with any number (≥ 2) of pinned vertices: `pin_vertices[i]` goes to
+ * (`pin_uv[2i]`, `pin_uv[2i+1]`) (vertex constraints, Desbrun et al. 2002 §4.1). Pins that
+ * conflict (one vertex pinned twice to different places) give `UVF_INVALID_ARGUMENT`.
+ *
+ * `pin_vertices` holds `pin_count` indices, `pin_uv` 2·`pin_count` doubles; `uv_out` 2 doubles
+ * per vertex. Statuses as `uvf_constrained_fixed_boundary_map`.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_pinned_natural_conformal_map(const double *positions,
+                                                size_t vertex_count,
+                                                const uint32_t *triangles,
+                                                size_t triangle_count,
+                                                const uint32_t *pin_vertices,
+                                                const double *pin_uv,
+                                                size_t pin_count,
+                                                const struct UvfIntrinsicToolOptions *options,
+                                                double *uv_out);
+
+/**
+ * Factors the intrinsic map λ·DCP + μ·DAP (Desbrun et al. 2002 §3.4) of a disk (holes are
+ * filled) with its outer boundary fixed, for real-time boundary editing (§4.2). On success
+ * `*editor_out` owns the editor (free it with `uvf_boundary_editor_free`); it does not keep
+ * pointers to the input arrays. Cost: one sparse factorization (Cholesky when μ = 0, LU
+ * otherwise).
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL `editor_out`, non-finite λ/μ or both zero),
+ * `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`, `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`,
+ * `UVF_INTERNAL_ERROR`. On failure `*editor_out` is set to NULL.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `editor_out` must be writable.
+ */
+enum UvfStatus uvf_boundary_editor_new(const double *positions,
+                                       size_t vertex_count,
+                                       const uint32_t *triangles,
+                                       size_t triangle_count,
+                                       double lambda,
+                                       double mu,
+                                       const struct UvfIntrinsicToolOptions *options,
+                                       struct UvfBoundaryEditor **editor_out);
+
+/**
+ * Frees an editor made by `uvf_boundary_editor_new` (NULL is ignored).
+ *
+ * # Safety
+ * `editor` must be NULL or an editor not yet freed, and no solve may be running on it.
+ */
+void uvf_boundary_editor_free(struct UvfBoundaryEditor *editor);
+
+/**
+ * Number of boundary vertices of the editor's outer loop (`*count_out`), and, when
+ * `vertices_out` is not NULL, their indices in the order `uvf_boundary_editor_solve` expects
+ * (`vertices_out` must hold `*count_out` entries: call once with NULL to get the count).
+ * Returns `UVF_OK` or `UVF_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * `editor` must be a live editor; `count_out` writable; `vertices_out` NULL or large enough.
+ */
+enum UvfStatus uvf_boundary_editor_boundary(const struct UvfBoundaryEditor *editor,
+                                            size_t *count_out,
+                                            uint32_t *vertices_out);
+
+/**
+ * The map for new boundary positions (Desbrun et al. 2002 §4.2): `boundary_uv` holds 2
+ * doubles per boundary vertex, in `uvf_boundary_editor_boundary` order (`boundary_count`
+ * vertices); `uv_out` receives 2 doubles per mesh vertex (`vertex_count` of the mesh given to
+ * `uvf_boundary_editor_new`; NaN for unreferenced vertices). One sparse product and one pair
+ * of triangular solves; safe to call concurrently on one editor from several threads.
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointers, wrong count, non-finite position),
+ * `UVF_NUMERICAL_FAILURE`, `UVF_INTERNAL_ERROR`. On failure `uv_out` is untouched.
+ *
+ * # Safety
+ * `editor` must be a live editor; the arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_boundary_editor_solve(const struct UvfBoundaryEditor *editor,
+                                         const double *boundary_uv,
+                                         size_t boundary_count,
+                                         double *uv_out);
+
+/**
+ * The explicit Green-function basis (impulse responses, Desbrun et al. 2002 §4.2): `basis_out`
+ * receives b × n doubles (b boundary vertices, n mesh vertices), `basis_out[i * n + v]` being
+ * the weight of boundary vertex i in the UV of vertex v, so that
+ * `uv[v] = Σ_i basis_out[i * n + v] · boundary_uv[i]`. Memory: 8·n·b bytes; when that exceeds
+ * `max_bytes` the call returns `UVF_INVALID_ARGUMENT` without computing anything. Cost: b
+ * solves (in blocks of 32).
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_NUMERICAL_FAILURE`, `UVF_INTERNAL_ERROR`.
+ *
+ * # Safety
+ * `editor` must be a live editor; `basis_out` must hold b·n doubles.
+ */
+enum UvfStatus uvf_boundary_editor_basis(const struct UvfBoundaryEditor *editor,
+                                         size_t max_bytes,
+                                         double *basis_out);
+
+/**
+ * Spectral conformal map (Mullen, Tong, Alliez, Desbrun 2008). Not implemented yet: always
+ * returns `UVF_NOT_IMPLEMENTED` (or `UVF_INVALID_ARGUMENT` for NULL mesh arrays).
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_spectral_conformal_map(const double *positions,
+                                          size_t vertex_count,
+                                          const uint32_t *triangles,
+                                          size_t triangle_count,
+                                          double *uv_out);
+
+/**
+ * Near-optimal intrinsic map (Desbrun et al. 2002 §5.1). Not implemented yet: always returns
+ * `UVF_NOT_IMPLEMENTED`.
+ *
+ * # Safety
+ * Never reads its arguments.
+ */
+enum UvfStatus uvf_intrinsic_optimal_map(const double *positions,
+                                         size_t vertex_count,
+                                         const uint32_t *triangles,
+                                         size_t triangle_count,
+                                         uint32_t energy,
+                                         double *lambda_out,
+                                         double *uv_out);
+
+/**
+ * Boundary-optimized intrinsic map (Desbrun et al. 2002 §5.2). Not implemented yet: always
+ * returns `UVF_NOT_IMPLEMENTED`.
+ *
+ * # Safety
+ * Never reads its arguments.
+ */
+enum UvfStatus uvf_boundary_optimized_map(const double *positions,
+                                          size_t vertex_count,
+                                          const uint32_t *triangles,
+                                          size_t triangle_count,
+                                          uint32_t energy,
+                                          double *uv_out);
 
 /**
  * Validates a mesh and reports its topology.
@@ -559,51 +705,6 @@ enum UvfStatus uvf_metrics(const double *positions,
                            size_t uv_count,
                            const uint32_t *uv_triangles,
                            struct UvfMetrics *out);
-
-/**
- * Fills `options` with defaults (SLIM, 100 iterations, tolerance 1e-7, θ = 3).
- *
- * # Safety
- * `options` must be NULL or point to a writable struct.
- */
-void uvf_nonlinear_options_default(struct UvfNonlinearOptions *options);
-
-/**
- * Distortion-minimizing parameterization with a free boundary that never flips a triangle.
- *
- * Starts from the mean value map with a circle boundary (bijective; ARAP: from the natural
- * conformal map when it has no flipped triangle), scaled to the input's area, and minimizes
- * the method's energy (local measure of the Jacobian's singular values σ1 ≥ σ2, weighted by
- * 3D area; course notes §4.3–4.4) with a line search that stops every step before any
- * triangle's signed area reaches zero (Smith & Schaefer 2015), so the result has no flipped
- * triangle and the energy decreases monotonically:
- * - `UVF_NONLINEAR_SLIM`: symmetric Dirichlet σ1² + σ1⁻² + σ2² + σ2⁻², by SLIM's reweighted
- *   local-global proxy (Rabinovich et al. 2017 eq. 8–9).
- * - `UVF_NONLINEAR_ARAP`: (σ1 − 1)² + (σ2 − 1)², local-global (Liu et al. 2008 eq. 3–6).
- * - `UVF_NONLINEAR_MIPS`: σ1/σ2 + σ2/σ1 (Hormann & Greiner 2000).
- * - `UVF_NONLINEAR_STRETCH`: Sander et al. 2001 L2 stretch (squared, scale-normalized).
- * - `UVF_NONLINEAR_GREEN_LAGRANGE`: (σ1² − 1)² + (σ2² − 1)² (Maillot et al. 1993).
- * - `UVF_NONLINEAR_DEGENER`: (σ1/σ2 + σ2/σ1)(σ1σ2 + 1/(σ1σ2))^θ (Degener et al. 2003).
- *
- * The last four use L-BFGS preconditioned by the cotangent Laplacian.
- *
- * `uv_out` receives 2 doubles per vertex (`vertex_count` pairs); unreferenced vertices get
- * NaN. `options` may be NULL for defaults; `report_out` may be NULL. Results are
- * deterministic. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (unknown method, tolerance < 0,
- * θ ≤ 0, bad pointers), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (not a single genus-0
- * component with a boundary), `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`,
- * `UVF_INTERNAL_ERROR`. On failure `uv_out` and `report_out` are untouched.
- *
- * # Safety
- * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
- */
-enum UvfStatus uvf_nonlinear_map(const double *positions,
-                                 size_t vertex_count,
-                                 const uint32_t *triangles,
-                                 size_t triangle_count,
-                                 const struct UvfNonlinearOptions *options,
-                                 double *uv_out,
-                                 struct UvfNonlinearReport *report_out);
 
 #ifdef __cplusplus
 }  // extern "C"

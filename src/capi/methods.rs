@@ -160,6 +160,11 @@ fn shape_from(o: &UvfFixedBoundaryOptions) -> Result<BoundaryShape> {
     })
 }
 
+/// The Rust options of a C `UvfFixedBoundaryOptions`.
+pub(crate) fn fixed_options_from(o: &UvfFixedBoundaryOptions) -> Result<FixedBoundaryOptions> {
+    Ok(FixedBoundaryOptions { weights: weights_from(o)?, shape: shape_from(o)?, distribution: distribution_from(o)? })
+}
+
 fn distribution_from(o: &UvfFixedBoundaryOptions) -> Result<Distribution> {
     Ok(match o.distribution {
         UVF_DISTRIBUTION_UNIFORM => Distribution::Uniform,

@@ -7,6 +7,7 @@
 //! outputs are left untouched when a call fails.
 
 pub mod errors;
+pub mod intrinsic;
 pub mod mesh;
 pub mod methods;
 pub mod metrics;

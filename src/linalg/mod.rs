@@ -5,6 +5,7 @@
 //! method that solves several times factors once.
 
 pub mod frontal_lu;
+pub mod lagrange;
 pub mod multifrontal;
 pub mod ordering;
 
@@ -204,7 +205,12 @@ impl<T: ComplexField + Copy + Send + Sync> CholeskySolver<T> {
 
     /// Solves for every column of `rhs` in place.
     pub fn solve_in_place(&self, rhs: &mut Mat<T>) -> Result<()> {
-        let par = faer::get_global_parallelism();
+        self.solve_in_place_with(rhs, faer::get_global_parallelism())
+    }
+
+    /// [`Self::solve_in_place`] with the given parallelism (`Par::Seq` is faster for a few
+    /// right-hand sides, whose triangular solves are memory-bound).
+    pub fn solve_in_place_with(&self, rhs: &mut Mat<T>, par: Par) -> Result<()> {
         let mut mem = MemBuffer::try_new(self.symbolic.solve_in_place_scratch::<T>(rhs.ncols(), par))
             .map_err(|_| Error::Internal("out of memory for the solve workspace".into()))?;
         LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, rhs.as_mut(), par, MemStack::new(&mut mem));

@@ -55,7 +55,7 @@ pub enum Weights {
 }
 
 impl Weights {
-    fn is_symmetric(self) -> bool {
+    pub(crate) fn is_symmetric(self) -> bool {
         matches!(self, Weights::Uniform | Weights::Conformal)
     }
 }
@@ -149,7 +149,7 @@ fn mean_squared_edge_length(mesh: &TriMesh) -> f64 {
 }
 
 /// `(i, j, w_ij)` for every free vertex i and neighbour j (repeated pairs are summed later).
-fn vertex_weights(mesh: &TriMesh, weights: Weights, unknown: &[u32]) -> Vec<(u32, u32, f64)> {
+pub(crate) fn vertex_weights(mesh: &TriMesh, weights: Weights, unknown: &[u32]) -> Vec<(u32, u32, f64)> {
     if weights == Weights::Floater {
         return super::floater::floater_weights(mesh, unknown);
     }

@@ -65,8 +65,14 @@ pub struct ConformalSystem {
 impl ConformalSystem {
     /// Assembles the system for pins checked by [`resolve_pins`].
     pub fn new(mesh: &TriMesh, pins: [Pin; 2]) -> Result<Self> {
+        Self::with_pins(mesh, &pins)
+    }
+
+    /// Assembles the system for any set of pinned vertices (valid, distinct vertices; one pin
+    /// already makes `H_ff` positive definite on a connected mesh).
+    pub fn with_pins(mesh: &TriMesh, pins: &[Pin]) -> Result<Self> {
         let mut pinned = vec![None; mesh.vertex_count()];
-        for &(v, p) in &pins {
+        for &(v, p) in pins {
             pinned[v as usize] = Some(c64::new(p[0], p[1]));
         }
         let unknowns = Unknowns::free_vertices(mesh, |v| pinned[v as usize].is_some());

@@ -5,3 +5,6 @@ pub mod barycentric;
 pub mod conformal;
 pub mod floater;
 pub mod nonlinear;
+pub mod constraints;
+pub mod fixed_system;
+pub mod intrinsic;

@@ -166,6 +166,96 @@ static void check_nonlinear(const double *positions, size_t nv, const uint32_t *
     check(uvf_nonlinear_map(positions, nv, triangles, nt, &options, uv, NULL) == UVF_INVALID_ARGUMENT, "theta <= 0 rejected");
 }
 
+/* Desbrun et al. 2002 §4.1-4.2: point constraints, more than two pins, the boundary editor. */
+static void check_intrinsic_tools(const double *positions, size_t nv, const uint32_t *triangles, size_t nt,
+                                  double *uv) {
+    static double uv2[2 * N * N];
+    static double basis[4 * (N - 1) * N * N];
+    static uint32_t boundary[4 * (N - 1)];
+    static double boundary_uv[8 * (N - 1)];
+    UvfFixedBoundaryOptions fixed;
+    UvfIntrinsicToolOptions tool;
+    UvfPointConstraint c[2];
+    UvfBoundaryEditor *editor = NULL;
+    uint32_t pins[3];
+    double pin_uv[6];
+    const uint32_t t = (uint32_t)(nt / 2);
+    double px, py, sum, worst = 0.0;
+    size_t b = 0, i, v;
+    int k;
+
+    uvf_fixed_boundary_options_default(&fixed);
+    fixed.weights = UVF_WEIGHTS_CONFORMAL;
+    c[0].triangle = t;
+    c[0].barycentric[0] = 0.2; c[0].barycentric[1] = 0.3; c[0].barycentric[2] = 0.5;
+    c[0].uv[0] = 0.45; c[0].uv[1] = 0.55;
+    check(uvf_constrained_fixed_boundary_map(positions, nv, triangles, nt, &fixed, c, 1, uv) == UVF_OK,
+          "constrained fixed-boundary map succeeds");
+    px = py = 0.0;
+    for (k = 0; k < 3; k++) {
+        px += c[0].barycentric[k] * uv[2 * triangles[3 * t + k]];
+        py += c[0].barycentric[k] * uv[2 * triangles[3 * t + k] + 1];
+    }
+    check(fabs(px - 0.45) < 1e-9 && fabs(py - 0.55) < 1e-9, "constrained point lands on its target");
+    c[1] = c[0];
+    c[1].uv[0] = 0.1;
+    check(uvf_constrained_fixed_boundary_map(positions, nv, triangles, nt, &fixed, c, 2, uv) == UVF_INVALID_ARGUMENT
+              && strstr(uvf_last_error_message(), "conflicts") != NULL,
+          "conflicting constraints give UVF_INVALID_ARGUMENT");
+
+    uvf_intrinsic_tool_options_default(&tool);
+    pins[0] = 0; pins[1] = N - 1; pins[2] = (N / 2) * N + N / 2;
+    pin_uv[0] = 0.0; pin_uv[1] = 0.0; pin_uv[2] = 1.0; pin_uv[3] = 0.0; pin_uv[4] = 0.5; pin_uv[5] = 0.6;
+    check(uvf_pinned_natural_conformal_map(positions, nv, triangles, nt, pins, pin_uv, 3, &tool, uv) == UVF_OK,
+          "natural conformal map with three pins");
+    check(fabs(uv[2 * pins[2]] - 0.5) < 1e-9 && fabs(uv[2 * pins[2] + 1] - 0.6) < 1e-9, "third pin honoured");
+    check(uvf_pinned_natural_conformal_map(positions, nv, triangles, nt, pins, pin_uv, 1, &tool, uv) == UVF_INVALID_ARGUMENT,
+          "one pin is not enough");
+    check(uvf_constrained_natural_conformal_map(positions, nv, triangles, nt, c, 1, NULL, uv) == UVF_INVALID_ARGUMENT,
+          "one constraint is not enough");
+
+    check(uvf_boundary_editor_new(positions, nv, triangles, nt, 0.5, 0.5, NULL, &editor) == UVF_OK && editor != NULL,
+          "boundary editor created");
+    check(uvf_boundary_editor_boundary(editor, &b, NULL) == UVF_OK && b == 4 * (N - 1), "boundary count");
+    check(uvf_boundary_editor_boundary(editor, &b, boundary) == UVF_OK, "boundary vertices");
+    for (i = 0; i < b; i++) {
+        double a = 6.283185307179586 * (double)i / (double)b;
+        boundary_uv[2 * i] = cos(a) * (1.0 + 0.1 * cos(3 * a));
+        boundary_uv[2 * i + 1] = sin(a);
+    }
+    check(uvf_boundary_editor_solve(editor, boundary_uv, b, uv) == UVF_OK, "editor solve");
+    check(uvf_boundary_editor_solve(editor, boundary_uv, b - 1, uv) == UVF_INVALID_ARGUMENT, "editor needs every boundary vertex");
+    check(uvf_boundary_editor_basis(editor, 8 * nv * b - 1, basis) == UVF_INVALID_ARGUMENT, "basis above the memory cap refused");
+    check(uvf_boundary_editor_basis(editor, 8 * nv * b, basis) == UVF_OK, "basis within the cap");
+    for (v = 0; v < nv; v++) {
+        for (k = 0; k < 2; k++) {
+            sum = 0.0;
+            for (i = 0; i < b; i++) sum += basis[i * nv + v] * boundary_uv[2 * i + k];
+            if (fabs(sum - uv[2 * v + k]) > worst) worst = fabs(sum - uv[2 * v + k]);
+        }
+    }
+    check(worst < 1e-9, "Green basis sum equals the editor solve");
+    uvf_fixed_boundary_options_default(&fixed);
+    fixed.weights = UVF_WEIGHTS_INTRINSIC;
+    fixed.lambda = 0.5;
+    fixed.mu = 0.5;
+    fixed.boundary = UVF_BOUNDARY_GIVEN;
+    fixed.given_count = b;
+    fixed.given_vertices = boundary;
+    fixed.given_uv = boundary_uv;
+    check(uvf_fixed_boundary_map(positions, nv, triangles, nt, &fixed, uv2) == UVF_OK, "fresh fixed-boundary solve");
+    worst = 0.0;
+    for (v = 0; v < 2 * nv; v++)
+        if (fabs(uv2[v] - uv[v]) > worst) worst = fabs(uv2[v] - uv[v]);
+    check(worst < 1e-9, "editor solve equals a fresh fixed-boundary solve");
+    uvf_boundary_editor_free(editor);
+    uvf_boundary_editor_free(NULL);
+    check(uvf_boundary_editor_new(positions, nv, triangles, nt, 0.0, 0.0, NULL, &editor) == UVF_INVALID_ARGUMENT
+              && editor == NULL, "λ = μ = 0 refused");
+    check(uvf_spectral_conformal_map(positions, nv, triangles, nt, uv) == UVF_NOT_IMPLEMENTED,
+          "spectral conformal map is not implemented yet");
+}
+
 int main(void) {
     static double positions[3 * N * N];
     static uint32_t triangles[6 * (N - 1) * (N - 1)];
@@ -237,6 +327,7 @@ int main(void) {
     check_options_and_counts(positions, nv, triangles, nt, uv);
     check_corner_metrics(positions, nv, triangles, nt, uv);
     check_nonlinear(positions, nv, triangles, nt, uv);
+    check_intrinsic_tools(positions, nv, triangles, nt, uv);
 
     if (failures == 0) printf("all C checks passed\n");
     return failures == 0 ? 0 : 1;
