@@ -15,6 +15,16 @@
 
 
 /**
+ * Original ABF (Sheffer & de Sturler 2001): full Newton steps, sparse LU of the whole system.
+ */
+#define UVF_ABF_VARIANT_ABF 0
+
+/**
+ * ABF++ (Sheffer et al. 2005): Gauss–Newton steps on the reduced ~2·n_interior system.
+ */
+#define UVF_ABF_VARIANT_ABF_PLUS_PLUS 1
+
+/**
  * Tutte's uniform weights.
  */
 #define UVF_WEIGHTS_UNIFORM 0
@@ -75,6 +85,21 @@
 #define UVF_DISTRIBUTION_CENTRIPETAL 2
 
 /**
+ * Largest fraction of the total weight one side may take.
+ */
+#define MAX_SIDE_FRACTION 0.55
+
+/**
+ * Side 0, side 1, or separator, for every vertex.
+ */
+#define SEPARATOR 2
+
+/**
+ * Vertex numbers must fit in 31 bits for the packed edge keys.
+ */
+#define MAX_VERTICES (1 << 31)
+
+/**
  * Status codes of the C ABI. `Ok` is 0; every failure class has its own code.
  */
 typedef enum UvfStatus {
@@ -118,6 +143,76 @@ typedef enum UvfStatus {
 } UvfStatus;
 
 /**
+ * Progress callback: receives the caller's `user` pointer and the fraction done in [0, 1];
+ * returning non-zero cancels the computation (the call then returns `UVF_CANCELLED`).
+ */
+typedef int (*UvfProgressFn)(void *user, double fraction);
+
+/**
+ * Options of `uvf_abf`. Initialise with `uvf_abf_options_default`.
+ */
+typedef struct UvfAbfOptions {
+  /**
+   * `sizeof(UvfAbfOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * `UVF_ABF_VARIANT_ABF_PLUS_PLUS` (default) or `UVF_ABF_VARIANT_ABF`.
+   */
+  uint32_t variant;
+  /**
+   * Most Newton / Gauss–Newton iterations (default 20).
+   */
+  uint32_t max_iterations;
+  /**
+   * Stop when the Euclidean norm of the Lagrangian's gradient is at most this (default 1e-6).
+   */
+  double tolerance;
+  /**
+   * 0: pin the two boundary vertices farthest apart (default); 2: use `pin_vertices`.
+   */
+  uint32_t pin_count;
+  /**
+   * The two pinned vertices when `pin_count` is 2.
+   */
+  uint32_t pin_vertices[2];
+  /**
+   * Their UVs: u0, v0, u1, v1.
+   */
+  double pin_uv[4];
+  /**
+   * Optional progress callback (may be NULL), called once per iteration.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfAbfOptions;
+
+/**
+ * What `uvf_abf` reports about the angle optimisation.
+ */
+typedef struct UvfAbfReport {
+  /**
+   * Iterations taken.
+   */
+  uint32_t iterations;
+  /**
+   * 1 when `gradient_norm <= tolerance`, else 0 (the UVs are still returned).
+   */
+  uint32_t converged;
+  /**
+   * Norm of the Lagrangian's gradient at the returned angles.
+   */
+  double gradient_norm;
+  /**
+   * Corners whose planar angle is outside (0, π) (their triangles flip).
+   */
+  uint64_t invalid_angles;
+} UvfAbfReport;
+
+/**
  * Counts and topological invariants of a mesh.
  */
 typedef struct UvfMeshInfo {
@@ -158,12 +253,6 @@ typedef struct UvfMeshInfo {
    */
   int64_t genus;
 } UvfMeshInfo;
-
-/**
- * Progress callback: receives the caller's `user` pointer and the fraction done in [0, 1];
- * returning non-zero cancels the computation (the call then returns `UVF_CANCELLED`).
- */
-typedef int (*UvfProgressFn)(void *user, double fraction);
 
 /**
  * Options of `uvf_fixed_boundary_map`. Initialise with `uvf_fixed_boundary_options_default`.
@@ -304,6 +393,42 @@ typedef struct UvfMetrics {
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
+
+/**
+ * Fills `options` with defaults (ABF++, 20 iterations, tolerance 1e-6, automatic pins).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_abf_options_default(struct UvfAbfOptions *options);
+
+/**
+ * Angle Based Flattening: ABF (Sheffer & de Sturler 2001) or ABF++ (Sheffer, Lévy,
+ * Mogilnitsky, Bogomyakov 2005; course notes §4.5). Finds planar corner angles closest to the
+ * 3D ones (energy Σ (α − β)²/β²) under the triangle, planarity and sine-law reconstruction
+ * constraints by Newton (ABF) or Gauss–Newton (ABF++, reduced 2·n_interior system) steps on
+ * the Lagrangian, then lays the angles out by least squares (ABF++ §5, the natural conformal
+ * system with the cotangents of the angles) with two pinned vertices.
+ *
+ * Needs a connected genus-0 mesh with at least one boundary. `uv_out` receives 2 doubles per
+ * vertex (`vertex_count` pairs); unreferenced vertices get NaN. `options` may be NULL.
+ * `report_out` may be NULL; otherwise it receives the iterations and final gradient norm.
+ * Reaching `max_iterations` without convergence is not an error (see `report_out->converged`).
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`,
+ * `UVF_NUMERICAL_FAILURE` (singular system, divergence), `UVF_CANCELLED` (the progress
+ * callback returned non-zero; checked once per iteration), `UVF_INTERNAL_ERROR`. On failure
+ * the outputs are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_abf(const double *positions,
+                       size_t vertex_count,
+                       const uint32_t *triangles,
+                       size_t triangle_count,
+                       const struct UvfAbfOptions *options,
+                       double *uv_out,
+                       struct UvfAbfReport *report_out);
 
 /**
  * Human-readable message of the last failed call on this thread ("" after a success).

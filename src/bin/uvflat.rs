@@ -10,6 +10,7 @@ use std::time::Instant;
 use clap::{Parser, Subcommand, ValueEnum};
 use uvflat::io::obj::{read_obj, write_obj_with_uv, ObjMesh};
 use uvflat::io::svg::write_uv_svg;
+use uvflat::methods::abf::{abf, AbfOptions, AbfVariant};
 use uvflat::methods::conformal::Pin;
 use uvflat::metrics::{distortion, Metrics};
 use uvflat::{
@@ -90,10 +91,13 @@ enum MethodName {
     MeanValue,
     Intrinsic,
     NaturalConformal,
+    Abf,
+    #[value(name = "abf++")]
+    AbfPlusPlus,
 }
 
 /// Each method's CLI name and one-line description, as `uvflat methods` prints them.
-const METHODS: [(MethodName, &str, &str); 7] = [
+const METHODS: [(MethodName, &str, &str); 9] = [
     (MethodName::Tutte, "tutte", "fixed boundary, uniform weights (Tutte 1963); never flips with a convex boundary"),
     (MethodName::Floater, "floater", "fixed boundary, Floater's shape-preserving weights (1997); never flips"),
     (MethodName::Authalic, "authalic", "fixed boundary, discrete authalic = Wachspress (Desbrun et al. 2002 eq. 6)"),
@@ -105,6 +109,8 @@ const METHODS: [(MethodName, &str, &str); 7] = [
         "natural-conformal",
         "free boundary, natural conformal map = LSCM (Desbrun et al. 2002 eq. 7); the default",
     ),
+    (MethodName::Abf, "abf", "free boundary, angle based flattening, full Newton (Sheffer & de Sturler 2001)"),
+    (MethodName::AbfPlusPlus, "abf++", "free boundary, ABF++ Gauss-Newton + LSCM reconstruction (Sheffer et al. 2005)"),
 ];
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -205,12 +211,12 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
 
 /// Rejects options that do not apply to the chosen method, so nothing is silently ignored.
 fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
-    let free = args.method == MethodName::NaturalConformal;
+    let free = matches!(args.method, MethodName::NaturalConformal | MethodName::Abf | MethodName::AbfPlusPlus);
     if free && (args.boundary.is_some() || args.distribution.is_some()) {
-        return Err(usage("--boundary and --distribution apply to fixed-boundary methods, not natural-conformal"));
+        return Err(usage(format!("--boundary and --distribution apply to fixed-boundary methods, not {}", method_label(args.method))));
     }
     if !free && !args.pins.is_empty() {
-        return Err(usage("--pin applies to --method natural-conformal only"));
+        return Err(usage("--pin applies to --method natural-conformal, abf and abf++ only"));
     }
     if free && !args.pins.is_empty() && args.pins.len() != 2 {
         return Err(usage(format!("give --pin exactly twice (got {})", args.pins.len())));
@@ -224,6 +230,22 @@ fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
 fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<Vec<[f64; 2]>, Failure> {
     let weights = match args.method {
         MethodName::NaturalConformal => return Ok(natural_conformal_map(mesh, cli_pins(mesh, &args.pins)?)?),
+        MethodName::Abf | MethodName::AbfPlusPlus => {
+            let variant = if args.method == MethodName::Abf { AbfVariant::Abf } else { AbfVariant::AbfPlusPlus };
+            let options = AbfOptions { variant, pins: cli_pins(mesh, &args.pins)?, ..AbfOptions::default() };
+            let result = abf(mesh, &options)?;
+            if !args.json {
+                let r = result.report;
+                println!(
+                    "{}: {} iterations, gradient norm {:.2e}{}",
+                    method_label(args.method),
+                    r.iterations,
+                    r.gradient_norm,
+                    if r.converged { "" } else { " (not converged)" }
+                );
+            }
+            return Ok(result.uv);
+        }
         MethodName::Tutte => Weights::Uniform,
         MethodName::Floater => Weights::Floater,
         MethodName::Authalic => Weights::Authalic,
