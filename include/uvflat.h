@@ -15,6 +15,16 @@
 
 
 /**
+ * Original ABF (Sheffer & de Sturler 2001): full Newton steps, sparse LU of the whole system.
+ */
+#define UVF_ABF_VARIANT_ABF 0
+
+/**
+ * ABF++ (Sheffer et al. 2005): Gauss–Newton steps on the reduced ~2·n_interior system.
+ */
+#define UVF_ABF_VARIANT_ABF_PLUS_PLUS 1
+
+/**
  * Tutte's uniform weights.
  */
 #define UVF_WEIGHTS_UNIFORM 0
@@ -133,35 +143,116 @@ typedef enum UvfStatus {
 } UvfStatus;
 
 /**
- * A factored intrinsic map whose boundary can be moved (opaque; create with
- * `uvf_boundary_editor_new`, free with `uvf_boundary_editor_free`).
- */
-typedef struct UvfBoundaryEditor UvfBoundaryEditor;
-
-/**
  * Progress callback: receives the caller's `user` pointer and the fraction done in [0, 1];
  * returning non-zero cancels the computation (the call then returns `UVF_CANCELLED`).
  */
 typedef int (*UvfProgressFn)(void *user, double fraction);
 
 /**
- * Options of the constrained natural conformal maps and of the boundary editor. Initialise
- * with `uvf_intrinsic_tool_options_default`.
+ * Options of `uvf_abf`. Initialise with `uvf_abf_options_default`.
  */
-typedef struct UvfIntrinsicToolOptions {
+typedef struct UvfAbfOptions {
   /**
-   * `sizeof(UvfIntrinsicToolOptions)`, set by the default initialiser.
+   * `sizeof(UvfAbfOptions)`, set by the default initialiser.
    */
   size_t struct_size;
   /**
-   * Optional progress callback (may be NULL).
+   * `UVF_ABF_VARIANT_ABF_PLUS_PLUS` (default) or `UVF_ABF_VARIANT_ABF`.
+   */
+  uint32_t variant;
+  /**
+   * Most Newton / Gauss–Newton iterations (default 20).
+   */
+  uint32_t max_iterations;
+  /**
+   * Stop when the Euclidean norm of the Lagrangian's gradient is at most this (default 1e-6).
+   */
+  double tolerance;
+  /**
+   * 0: pin the two boundary vertices farthest apart (default); 2: use `pin_vertices`.
+   */
+  uint32_t pin_count;
+  /**
+   * The two pinned vertices when `pin_count` is 2.
+   */
+  uint32_t pin_vertices[2];
+  /**
+   * Their UVs: u0, v0, u1, v1.
+   */
+  double pin_uv[4];
+  /**
+   * Optional progress callback (may be NULL), called once per iteration.
    */
   UvfProgressFn progress;
   /**
    * Passed to `progress` unchanged.
    */
   void *progress_user;
-} UvfIntrinsicToolOptions;
+} UvfAbfOptions;
+
+/**
+ * What `uvf_abf` reports about the angle optimisation.
+ */
+typedef struct UvfAbfReport {
+  /**
+   * Iterations taken.
+   */
+  uint32_t iterations;
+  /**
+   * 1 when `gradient_norm <= tolerance`, else 0 (the UVs are still returned).
+   */
+  uint32_t converged;
+  /**
+   * Norm of the Lagrangian's gradient at the returned angles.
+   */
+  double gradient_norm;
+  /**
+   * Corners whose planar angle is outside (0, π) (their triangles flip).
+   */
+  uint64_t invalid_angles;
+} UvfAbfReport;
+
+/**
+ * Counts and topological invariants of a mesh.
+ */
+typedef struct UvfMeshInfo {
+  /**
+   * Vertices in the input arrays (including unreferenced ones).
+   */
+  size_t vertices;
+  /**
+   * Vertices used by at least one triangle.
+   */
+  size_t referenced_vertices;
+  /**
+   * Triangles.
+   */
+  size_t triangles;
+  /**
+   * Undirected edges.
+   */
+  size_t edges;
+  /**
+   * Connected components.
+   */
+  size_t components;
+  /**
+   * Boundary loops.
+   */
+  size_t boundary_loops;
+  /**
+   * Total number of vertices over all boundary loops (size of `uvf_boundary_loops` output).
+   */
+  size_t boundary_vertices;
+  /**
+   * Euler characteristic V − E + F.
+   */
+  int64_t euler_characteristic;
+  /**
+   * Total genus.
+   */
+  int64_t genus;
+} UvfMeshInfo;
 
 /**
  * Options of `uvf_fixed_boundary_map`. Initialise with `uvf_fixed_boundary_options_default`.
@@ -212,67 +303,6 @@ typedef struct UvfFixedBoundaryOptions {
    */
   void *progress_user;
 } UvfFixedBoundaryOptions;
-
-/**
- * A point of the surface (triangle index and barycentric coordinates with respect to its
- * three corners, normalized by their sum) and the UV it must map to.
- */
-typedef struct UvfPointConstraint {
-  /**
-   * Triangle index (< triangle_count).
-   */
-  uint32_t triangle;
-  /**
-   * Barycentric coordinates of the point (must not sum to zero).
-   */
-  double barycentric[3];
-  /**
-   * Target UV.
-   */
-  double uv[2];
-} UvfPointConstraint;
-
-/**
- * Counts and topological invariants of a mesh.
- */
-typedef struct UvfMeshInfo {
-  /**
-   * Vertices in the input arrays (including unreferenced ones).
-   */
-  size_t vertices;
-  /**
-   * Vertices used by at least one triangle.
-   */
-  size_t referenced_vertices;
-  /**
-   * Triangles.
-   */
-  size_t triangles;
-  /**
-   * Undirected edges.
-   */
-  size_t edges;
-  /**
-   * Connected components.
-   */
-  size_t components;
-  /**
-   * Boundary loops.
-   */
-  size_t boundary_loops;
-  /**
-   * Total number of vertices over all boundary loops (size of `uvf_boundary_loops` output).
-   */
-  size_t boundary_vertices;
-  /**
-   * Euler characteristic V − E + F.
-   */
-  int64_t euler_characteristic;
-  /**
-   * Total genus.
-   */
-  int64_t genus;
-} UvfMeshInfo;
 
 /**
  * Options of `uvf_natural_conformal_map`. Initialise with
@@ -365,6 +395,42 @@ extern "C" {
 #endif // __cplusplus
 
 /**
+ * Fills `options` with defaults (ABF++, 20 iterations, tolerance 1e-6, automatic pins).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_abf_options_default(struct UvfAbfOptions *options);
+
+/**
+ * Angle Based Flattening: ABF (Sheffer & de Sturler 2001) or ABF++ (Sheffer, Lévy,
+ * Mogilnitsky, Bogomyakov 2005; course notes §4.5). Finds planar corner angles closest to the
+ * 3D ones (energy Σ (α − β)²/β²) under the triangle, planarity and sine-law reconstruction
+ * constraints by Newton (ABF) or Gauss–Newton (ABF++, reduced 2·n_interior system) steps on
+ * the Lagrangian, then lays the angles out by least squares (ABF++ §5, the natural conformal
+ * system with the cotangents of the angles) with two pinned vertices.
+ *
+ * Needs a connected genus-0 mesh with at least one boundary. `uv_out` receives 2 doubles per
+ * vertex (`vertex_count` pairs); unreferenced vertices get NaN. `options` may be NULL.
+ * `report_out` may be NULL; otherwise it receives the iterations and final gradient norm.
+ * Reaching `max_iterations` without convergence is not an error (see `report_out->converged`).
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`,
+ * `UVF_NUMERICAL_FAILURE` (singular system, divergence), `UVF_CANCELLED` (the progress
+ * callback returned non-zero; checked once per iteration), `UVF_INTERNAL_ERROR`. On failure
+ * the outputs are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_abf(const double *positions,
+                       size_t vertex_count,
+                       const uint32_t *triangles,
+                       size_t triangle_count,
+                       const struct UvfAbfOptions *options,
+                       double *uv_out,
+                       struct UvfAbfReport *report_out);
+
+/**
  * Human-readable message of the last failed call on this thread ("" after a success).
  * The pointer stays valid until the next uvflat call on the same thread.
  */
@@ -379,202 +445,6 @@ const char *uvf_version(void);
  * ABI version of the loaded library; compare with `UVF_ABI_VERSION` from the header.
  */
 uint32_t uvf_abi_version(void);
-
-/**
- * Fills `options` with defaults (no progress callback).
- *
- * # Safety
- * `options` must be NULL or point to a writable struct.
- */
-void uvf_intrinsic_tool_options_default(struct UvfIntrinsicToolOptions *options);
-
-/**
- * Fixed-boundary map with point constraints (Desbrun et al. 2002 §4.1, Lagrange multipliers):
- * the map of `uvf_fixed_boundary_map` (same `options`, any weights and boundary) with each of
- * the `constraint_count` points of `constraints` placed exactly on its target. Already
- * satisfied constraints leave the map unchanged.
- *
- * `uv_out` receives 2 doubles per vertex. Returns `UVF_OK`; `UVF_INVALID_ARGUMENT` for a bad
- * pointer, option, triangle index, zero-sum barycentric coordinates, a non-finite target, or
- * conflicting constraints (linearly dependent ones with different targets, or a point whose
- * triangle lies entirely on the fixed boundary given another position — the message names the
- * constraint); `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`, `UVF_NUMERICAL_FAILURE`,
- * `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure `uv_out` is untouched.
- *
- * # Safety
- * The arrays must hold the stated number of elements.
- */
-enum UvfStatus uvf_constrained_fixed_boundary_map(const double *positions,
-                                                  size_t vertex_count,
-                                                  const uint32_t *triangles,
-                                                  size_t triangle_count,
-                                                  const struct UvfFixedBoundaryOptions *options,
-                                                  const struct UvfPointConstraint *constraints,
-                                                  size_t constraint_count,
-                                                  double *uv_out);
-
-/**
- * Natural conformal map (Desbrun et al. 2002 §4.2 eq. 7 = LSCM) with point constraints
- * instead of two pins (§4.1): minimizes the conformal energy subject to every constraint.
- * Needs at least 2 constraints, not all with the same target; two vertex constraints give
- * the 2-pin natural conformal map.
- *
- * `uv_out` receives 2 doubles per vertex (NaN for unreferenced vertices); `options` may be
- * NULL. Statuses as `uvf_constrained_fixed_boundary_map`.
- *
- * # Safety
- * The arrays must hold the stated number of elements.
- */
-enum UvfStatus uvf_constrained_natural_conformal_map(const double *positions,
-                                                     size_t vertex_count,
-                                                     const uint32_t *triangles,
-                                                     size_t triangle_count,
-                                                     const struct UvfPointConstraint *constraints,
-                                                     size_t constraint_count,
-                                                     const struct UvfIntrinsicToolOptions *options,
-                                                     double *uv_out);
-
-/**
- * Natural conformal map with any number (≥ 2) of pinned vertices: `pin_vertices[i]` goes to
- * (`pin_uv[2i]`, `pin_uv[2i+1]`) (vertex constraints, Desbrun et al. 2002 §4.1). Pins that
- * conflict (one vertex pinned twice to different places) give `UVF_INVALID_ARGUMENT`.
- *
- * `pin_vertices` holds `pin_count` indices, `pin_uv` 2·`pin_count` doubles; `uv_out` 2 doubles
- * per vertex. Statuses as `uvf_constrained_fixed_boundary_map`.
- *
- * # Safety
- * The arrays must hold the stated number of elements.
- */
-enum UvfStatus uvf_pinned_natural_conformal_map(const double *positions,
-                                                size_t vertex_count,
-                                                const uint32_t *triangles,
-                                                size_t triangle_count,
-                                                const uint32_t *pin_vertices,
-                                                const double *pin_uv,
-                                                size_t pin_count,
-                                                const struct UvfIntrinsicToolOptions *options,
-                                                double *uv_out);
-
-/**
- * Factors the intrinsic map λ·DCP + μ·DAP (Desbrun et al. 2002 §3.4) of a disk (holes are
- * filled) with its outer boundary fixed, for real-time boundary editing (§4.2). On success
- * `*editor_out` owns the editor (free it with `uvf_boundary_editor_free`); it does not keep
- * pointers to the input arrays. Cost: one sparse factorization (Cholesky when μ = 0, LU
- * otherwise).
- *
- * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL `editor_out`, non-finite λ/μ or both zero),
- * `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`, `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`,
- * `UVF_INTERNAL_ERROR`. On failure `*editor_out` is set to NULL.
- *
- * # Safety
- * The arrays must hold the stated number of elements; `editor_out` must be writable.
- */
-enum UvfStatus uvf_boundary_editor_new(const double *positions,
-                                       size_t vertex_count,
-                                       const uint32_t *triangles,
-                                       size_t triangle_count,
-                                       double lambda,
-                                       double mu,
-                                       const struct UvfIntrinsicToolOptions *options,
-                                       struct UvfBoundaryEditor **editor_out);
-
-/**
- * Frees an editor made by `uvf_boundary_editor_new` (NULL is ignored).
- *
- * # Safety
- * `editor` must be NULL or an editor not yet freed, and no solve may be running on it.
- */
-void uvf_boundary_editor_free(struct UvfBoundaryEditor *editor);
-
-/**
- * Number of boundary vertices of the editor's outer loop (`*count_out`), and, when
- * `vertices_out` is not NULL, their indices in the order `uvf_boundary_editor_solve` expects
- * (`vertices_out` must hold `*count_out` entries: call once with NULL to get the count).
- * Returns `UVF_OK` or `UVF_INVALID_ARGUMENT`.
- *
- * # Safety
- * `editor` must be a live editor; `count_out` writable; `vertices_out` NULL or large enough.
- */
-enum UvfStatus uvf_boundary_editor_boundary(const struct UvfBoundaryEditor *editor,
-                                            size_t *count_out,
-                                            uint32_t *vertices_out);
-
-/**
- * The map for new boundary positions (Desbrun et al. 2002 §4.2): `boundary_uv` holds 2
- * doubles per boundary vertex, in `uvf_boundary_editor_boundary` order (`boundary_count`
- * vertices); `uv_out` receives 2 doubles per mesh vertex (`vertex_count` of the mesh given to
- * `uvf_boundary_editor_new`; NaN for unreferenced vertices). One sparse product and one pair
- * of triangular solves; safe to call concurrently on one editor from several threads.
- *
- * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointers, wrong count, non-finite position),
- * `UVF_NUMERICAL_FAILURE`, `UVF_INTERNAL_ERROR`. On failure `uv_out` is untouched.
- *
- * # Safety
- * `editor` must be a live editor; the arrays must hold the stated number of elements.
- */
-enum UvfStatus uvf_boundary_editor_solve(const struct UvfBoundaryEditor *editor,
-                                         const double *boundary_uv,
-                                         size_t boundary_count,
-                                         double *uv_out);
-
-/**
- * The explicit Green-function basis (impulse responses, Desbrun et al. 2002 §4.2): `basis_out`
- * receives b × n doubles (b boundary vertices, n mesh vertices), `basis_out[i * n + v]` being
- * the weight of boundary vertex i in the UV of vertex v, so that
- * `uv[v] = Σ_i basis_out[i * n + v] · boundary_uv[i]`. Memory: 8·n·b bytes; when that exceeds
- * `max_bytes` the call returns `UVF_INVALID_ARGUMENT` without computing anything. Cost: b
- * solves (in blocks of 32).
- *
- * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_NUMERICAL_FAILURE`, `UVF_INTERNAL_ERROR`.
- *
- * # Safety
- * `editor` must be a live editor; `basis_out` must hold b·n doubles.
- */
-enum UvfStatus uvf_boundary_editor_basis(const struct UvfBoundaryEditor *editor,
-                                         size_t max_bytes,
-                                         double *basis_out);
-
-/**
- * Spectral conformal map (Mullen, Tong, Alliez, Desbrun 2008). Not implemented yet: always
- * returns `UVF_NOT_IMPLEMENTED` (or `UVF_INVALID_ARGUMENT` for NULL mesh arrays).
- *
- * # Safety
- * The arrays must hold the stated number of elements.
- */
-enum UvfStatus uvf_spectral_conformal_map(const double *positions,
-                                          size_t vertex_count,
-                                          const uint32_t *triangles,
-                                          size_t triangle_count,
-                                          double *uv_out);
-
-/**
- * Near-optimal intrinsic map (Desbrun et al. 2002 §5.1). Not implemented yet: always returns
- * `UVF_NOT_IMPLEMENTED`.
- *
- * # Safety
- * Never reads its arguments.
- */
-enum UvfStatus uvf_intrinsic_optimal_map(const double *positions,
-                                         size_t vertex_count,
-                                         const uint32_t *triangles,
-                                         size_t triangle_count,
-                                         uint32_t energy,
-                                         double *lambda_out,
-                                         double *uv_out);
-
-/**
- * Boundary-optimized intrinsic map (Desbrun et al. 2002 §5.2). Not implemented yet: always
- * returns `UVF_NOT_IMPLEMENTED`.
- *
- * # Safety
- * Never reads its arguments.
- */
-enum UvfStatus uvf_boundary_optimized_map(const double *positions,
-                                          size_t vertex_count,
-                                          const uint32_t *triangles,
-                                          size_t triangle_count,
-                                          uint32_t energy,
-                                          double *uv_out);
 
 /**
  * Validates a mesh and reports its topology.

@@ -10,6 +10,7 @@ use std::time::Instant;
 use clap::{Parser, Subcommand, ValueEnum};
 use uvflat::io::obj::{read_obj, write_obj_with_uv, ObjMesh};
 use uvflat::io::svg::write_uv_svg;
+use uvflat::methods::abf::{abf, AbfOptions, AbfVariant};
 use uvflat::methods::conformal::Pin;
 use uvflat::methods::nonlinear::{nonlinear_map, NonlinearMethod, NonlinearOptions};
 use uvflat::metrics::{distortion, Metrics};
@@ -103,6 +104,9 @@ enum MethodName {
     Stretch,
     GreenLagrange,
     Degener,
+    Abf,
+    #[value(name = "abf++")]
+    AbfPlusPlus,
 }
 
 impl MethodName {
@@ -121,7 +125,7 @@ impl MethodName {
 }
 
 /// Each method's CLI name and one-line description, as `uvflat methods` prints them.
-const METHODS: [(MethodName, &str, &str); 13] = [
+const METHODS: [(MethodName, &str, &str); 15] = [
     (MethodName::Tutte, "tutte", "fixed boundary, uniform weights (Tutte 1963); never flips with a convex boundary"),
     (MethodName::Floater, "floater", "fixed boundary, Floater's shape-preserving weights (1997); never flips"),
     (MethodName::Authalic, "authalic", "fixed boundary, discrete authalic = Wachspress (Desbrun et al. 2002 eq. 6)"),
@@ -139,6 +143,8 @@ const METHODS: [(MethodName, &str, &str); 13] = [
     (MethodName::Stretch, "stretch", "free boundary, L2 stretch (Sander et al. 2001); never flips"),
     (MethodName::GreenLagrange, "green-lagrange", "free boundary, Green-Lagrange tensor (Maillot et al. 1993); never flips"),
     (MethodName::Degener, "degener", "free boundary, Degener et al. 2003 angle x area^theta energy; never flips"),
+    (MethodName::Abf, "abf", "free boundary, angle based flattening, full Newton (Sheffer & de Sturler 2001)"),
+    (MethodName::AbfPlusPlus, "abf++", "free boundary, ABF++ Gauss-Newton + LSCM reconstruction (Sheffer et al. 2005)"),
 ];
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -239,7 +245,7 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
 
 /// Rejects options that do not apply to the chosen method, so nothing is silently ignored.
 fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
-    let free = args.method == MethodName::NaturalConformal;
+    let free = matches!(args.method, MethodName::NaturalConformal | MethodName::Abf | MethodName::AbfPlusPlus);
     let nonlinear = args.method.nonlinear().is_some();
     if (free || nonlinear) && (args.boundary.is_some() || args.distribution.is_some()) {
         return Err(usage(format!("--boundary and --distribution apply to fixed-boundary methods, not {}", method_label(args.method))));
@@ -251,7 +257,7 @@ fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
         return Err(usage("--theta applies to --method degener only"));
     }
     if !free && !args.pins.is_empty() {
-        return Err(usage("--pin applies to --method natural-conformal only"));
+        return Err(usage("--pin applies to --method natural-conformal, abf and abf++ only"));
     }
     if free && !args.pins.is_empty() && args.pins.len() != 2 {
         return Err(usage(format!("give --pin exactly twice (got {})", args.pins.len())));
@@ -271,6 +277,22 @@ fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<Vec<[f64; 2]>, Failur
     }
     let weights = match args.method {
         MethodName::NaturalConformal => return Ok(natural_conformal_map(mesh, cli_pins(mesh, &args.pins)?)?),
+        MethodName::Abf | MethodName::AbfPlusPlus => {
+            let variant = if args.method == MethodName::Abf { AbfVariant::Abf } else { AbfVariant::AbfPlusPlus };
+            let options = AbfOptions { variant, pins: cli_pins(mesh, &args.pins)?, ..AbfOptions::default() };
+            let result = abf(mesh, &options)?;
+            if !args.json {
+                let r = result.report;
+                println!(
+                    "{}: {} iterations, gradient norm {:.2e}{}",
+                    method_label(args.method),
+                    r.iterations,
+                    r.gradient_norm,
+                    if r.converged { "" } else { " (not converged)" }
+                );
+            }
+            return Ok(result.uv);
+        }
         MethodName::Slim
         | MethodName::Arap
         | MethodName::Mips

@@ -6,6 +6,7 @@
 //! outputs whose lengths are documented; options structs whose first field is their own size;
 //! outputs are left untouched when a call fails.
 
+pub mod abf;
 pub mod errors;
 pub mod intrinsic;
 pub mod mesh;

@@ -71,12 +71,19 @@ impl ConformalSystem {
     /// Assembles the system for any set of pinned vertices (valid, distinct vertices; one pin
     /// already makes `H_ff` positive definite on a connected mesh).
     pub fn with_pins(mesh: &TriMesh, pins: &[Pin]) -> Result<Self> {
+        Self::with_cotangents(mesh, pins, &mesh.geometry().cot)
+    }
+
+    /// The same system with the cotangents of other corner angles (`cot[t][k]` at corner `k` of
+    /// triangle `t`): its minimiser makes every uv triangle as similar as possible to the
+    /// triangle with those angles (ABF++'s angle-to-uv step, `methods::abf`).
+    pub fn with_cotangents(mesh: &TriMesh, pins: &[Pin], cot: &[[f64; 3]]) -> Result<Self> {
         let mut pinned = vec![None; mesh.vertex_count()];
         for &(v, p) in pins {
             pinned[v as usize] = Some(c64::new(p[0], p[1]));
         }
         let unknowns = Unknowns::free_vertices(mesh, |v| pinned[v as usize].is_some());
-        let (matrix, rhs) = assemble_conformal_system(mesh, &unknowns.index, unknowns.count(), &pinned)?;
+        let (matrix, rhs) = assemble_conformal_system(mesh, cot, &unknowns.index, unknowns.count(), &pinned)?;
         Ok(ConformalSystem { unknowns, pinned, matrix, rhs })
     }
 
@@ -172,6 +179,7 @@ pub fn farthest_pair(points: &[[f64; 3]], candidates: &[u32]) -> (u32, u32) {
 /// sums do not depend on the number of threads).
 fn assemble_conformal_system(
     mesh: &TriMesh,
+    cot: &[[f64; 3]],
     index: &[u32],
     count: usize,
     pinned: &[Option<c64>],
@@ -181,7 +189,7 @@ fn assemble_conformal_system(
     let step = halfedges.div_ceil(RANGES);
     let parts: Vec<EdgeTerms> = (0..RANGES)
         .into_par_iter()
-        .map(|k| edge_terms(mesh, index, count, pinned, (k * step).min(halfedges)..((k + 1) * step).min(halfedges)))
+        .map(|k| edge_terms(mesh, cot, index, count, pinned, (k * step).min(halfedges)..((k + 1) * step).min(halfedges)))
         .collect();
     let mut diagonal = vec![c64::new(0.0, 0.0); count];
     diagonal.par_iter_mut().enumerate().with_min_len(4096).for_each(|(r, d)| d.re = parts.iter().map(|p| p.diagonal[r]).sum());
@@ -208,8 +216,7 @@ struct EdgeTerms {
 
 /// The contributions of the edges whose first half-edge (the boundary one, or the lower of the
 /// two) lies in `halfedges`.
-fn edge_terms(mesh: &TriMesh, index: &[u32], count: usize, pinned: &[Option<c64>], halfedges: std::ops::Range<usize>) -> EdgeTerms {
-    let cot = &mesh.geometry().cot;
+fn edge_terms(mesh: &TriMesh, cot: &[[f64; 3]], index: &[u32], count: usize, pinned: &[Option<c64>], halfedges: std::ops::Range<usize>) -> EdgeTerms {
     let twin = &mesh.connectivity().twin;
     // Half the cotangent of the corner opposite half-edge h.
     let half_cot = |h: u32| 0.5 * cot[(h / 3) as usize][((h % 3 + 2) % 3) as usize];

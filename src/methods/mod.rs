@@ -8,3 +8,4 @@ pub mod nonlinear;
 pub mod constraints;
 pub mod fixed_system;
 pub mod intrinsic;
+pub mod abf;

@@ -256,6 +256,41 @@ static void check_intrinsic_tools(const double *positions, size_t nv, const uint
           "spectral conformal map is not implemented yet");
 }
 
+/* uvf_abf: ABF++ and ABF converge on the bent grid without flips, report their iterations, and
+ * a progress callback that returns non-zero at the first iteration cancels. */
+static int cancel_first(void *user, double fraction) {
+    (void)fraction;
+    (*(int *)user)++;
+    return 1;
+}
+
+static void check_abf(const double *positions, size_t nv, const uint32_t *triangles, size_t nt, double *uv) {
+    UvfAbfOptions options;
+    UvfAbfReport report;
+    UvfMetrics metrics;
+    UvfStatus status;
+    int calls = 0;
+    uvf_abf_options_default(&options);
+    check(options.struct_size == sizeof(UvfAbfOptions) && options.variant == UVF_ABF_VARIANT_ABF_PLUS_PLUS,
+          "ABF defaults: ABF++");
+    status = uvf_abf(positions, nv, triangles, nt, &options, uv, &report);
+    check(status == UVF_OK && report.converged == 1 && report.gradient_norm <= 1e-6 && report.iterations <= 10,
+          "ABF++ converges on the bent grid");
+    status = uvf_metrics(positions, nv, triangles, nt, uv, nv, NULL, &metrics);
+    check(status == UVF_OK && metrics.flipped == 0, "ABF++ flips no triangle");
+    options.variant = UVF_ABF_VARIANT_ABF;
+    status = uvf_abf(positions, nv, triangles, nt, &options, uv, NULL);
+    check(status == UVF_OK, "original ABF succeeds");
+    options.variant = 9;
+    check(uvf_abf(positions, nv, triangles, nt, &options, uv, NULL) == UVF_INVALID_ARGUMENT, "unknown ABF variant");
+    uvf_abf_options_default(&options);
+    options.progress = cancel_first;
+    options.progress_user = &calls;
+    uv[0] = 42.0;
+    status = uvf_abf(positions, nv, triangles, nt, &options, uv, &report);
+    check(status == UVF_CANCELLED && calls == 1 && uv[0] == 42.0, "ABF++ cancels within one iteration");
+}
+
 int main(void) {
     static double positions[3 * N * N];
     static uint32_t triangles[6 * (N - 1) * (N - 1)];
@@ -328,6 +363,7 @@ int main(void) {
     check_corner_metrics(positions, nv, triangles, nt, uv);
     check_nonlinear(positions, nv, triangles, nt, uv);
     check_intrinsic_tools(positions, nv, triangles, nt, uv);
+    check_abf(positions, nv, triangles, nt, uv);
 
     if (failures == 0) printf("all C checks passed\n");
     return failures == 0 ? 0 : 1;

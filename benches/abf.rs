@@ -1,0 +1,109 @@
+//! ABF++ (and ABF) convergence and quality on the disk meshes of the shared collection, as a
+//! Markdown table in the spirit of the course notes' Table 4.1: mesh, faces, method, iterations,
+//! seconds, final ‖∇L‖₂, flipped triangles after reconstruction, mean |3D angle − uv angle|, and
+//! the natural conformal map's time and angle distortion for comparison.
+//!
+//!     cargo bench --bench abf                                   # disk meshes up to 100k faces
+//!     UVFLAT_BENCH_MAX_FACES=300000 cargo bench --bench abf     # also the 207k-face mesh
+//!     UVFLAT_BENCH_ABF_MAX_FACES=20000 cargo bench --bench abf  # also original ABF up to 20k
+//!     UVFLAT_BENCH_MESHES=disk_mountain.obj,disk_bimba_cut.obj cargo bench --bench abf
+//!
+//! Times: `TriMesh::new` plus the method (angle optimisation + reconstruction), one run each
+//! (OBJ loading not timed). Threads: as many as rayon gives (printed).
+
+use std::path::Path;
+use std::time::Instant;
+use uvflat::methods::abf::{abf, AbfOptions, AbfVariant};
+use uvflat::metrics::distortion;
+use uvflat::{natural_conformal_map, TriMesh};
+
+const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+
+fn env_usize(name: &str, default: usize) -> usize {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+/// Disk meshes (`disk_*.obj`) with their face counts, smallest first.
+fn disk_meshes(max_faces: usize) -> Vec<(usize, String)> {
+    let only: Option<Vec<String>> = std::env::var("UVFLAT_BENCH_MESHES")
+        .ok()
+        .map(|s| s.split(',').map(str::to_string).collect());
+    let mut files: Vec<(usize, String)> = std::fs::read_dir(MESH_DIR)
+        .expect("mesh directory")
+        .filter_map(|e| {
+            let name = e.ok()?.file_name().into_string().ok()?;
+            if !(name.starts_with("disk_") && name.ends_with(".obj")) {
+                return None;
+            }
+            if let Some(only) = &only {
+                if !only.contains(&name) {
+                    return None;
+                }
+            }
+            let text = std::fs::read_to_string(Path::new(MESH_DIR).join(&name)).ok()?;
+            let faces = text.lines().filter(|l| l.starts_with("f ")).count();
+            (faces <= max_faces).then_some((faces, name))
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+fn main() {
+    let max_faces = env_usize("UVFLAT_BENCH_MAX_FACES", 100_000);
+    let abf_max_faces = env_usize("UVFLAT_BENCH_ABF_MAX_FACES", 0);
+    println!("threads: {}", rayon::current_num_threads());
+    println!();
+    println!("| mesh | faces | method | iterations | seconds | final ‖∇L‖ | flipped | invalid angles | angle error mean (°) | natural conformal: seconds | angle error mean (°) |");
+    println!("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for (faces, name) in disk_meshes(max_faces) {
+        let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(&name)).expect("read mesh");
+        let tris: Vec<[u32; 3]> = obj
+            .triangles
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        let points: Vec<[f64; 3]> = obj
+            .positions
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        let start = Instant::now();
+        let mesh = TriMesh::new(&obj.positions, &obj.triangles).expect("valid mesh");
+        let conformal = natural_conformal_map(&mesh, None).expect("natural conformal");
+        let conformal_seconds = start.elapsed().as_secs_f64();
+        let conformal_metrics = distortion(&points, &tris, &conformal, &tris).expect("metrics");
+        let mut variants = vec![(AbfVariant::AbfPlusPlus, "ABF++")];
+        if faces <= abf_max_faces {
+            variants.push((AbfVariant::Abf, "ABF"));
+        }
+        for (variant, label) in variants {
+            let start = Instant::now();
+            let mesh = TriMesh::new(&obj.positions, &obj.triangles).expect("valid mesh");
+            let options = AbfOptions {
+                variant,
+                ..AbfOptions::default()
+            };
+            match abf(&mesh, &options) {
+                Ok(result) => {
+                    let seconds = start.elapsed().as_secs_f64();
+                    let m = distortion(&points, &tris, &result.uv, &tris).expect("metrics");
+                    let r = result.report;
+                    println!(
+                        "| {name} | {faces} | {label} | {} | {seconds:.3} | {:.1e} | {} | {} | {:.3} | {conformal_seconds:.3} | {:.3} |",
+                        r.iterations,
+                        r.gradient_norm,
+                        m.flipped,
+                        r.invalid_angles,
+                        m.angle_mean.to_degrees(),
+                        conformal_metrics.angle_mean.to_degrees()
+                    );
+                }
+                Err(e) => println!("| {name} | {faces} | {label} | failed: {e} | | | | | | {conformal_seconds:.3} | |"),
+            }
+        }
+    }
+}

@@ -1,0 +1,160 @@
+//! C ABI of ABF / ABF++ (`methods::abf`).
+
+use super::{guard, mesh_from_raw, progress_closure, read_options, write_uv, UvfProgressFn};
+use crate::error::{Error, UvfStatus};
+use crate::methods::abf::{abf_with_progress, AbfOptions, AbfVariant};
+use crate::methods::conformal::Pin;
+use crate::progress::Progress;
+use std::os::raw::c_void;
+
+/// Original ABF (Sheffer & de Sturler 2001): full Newton steps, sparse LU of the whole system.
+pub const UVF_ABF_VARIANT_ABF: u32 = 0;
+/// ABF++ (Sheffer et al. 2005): Gauss–Newton steps on the reduced ~2·n_interior system.
+pub const UVF_ABF_VARIANT_ABF_PLUS_PLUS: u32 = 1;
+
+/// Options of `uvf_abf`. Initialise with `uvf_abf_options_default`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct UvfAbfOptions {
+    /// `sizeof(UvfAbfOptions)`, set by the default initialiser.
+    pub struct_size: usize,
+    /// `UVF_ABF_VARIANT_ABF_PLUS_PLUS` (default) or `UVF_ABF_VARIANT_ABF`.
+    pub variant: u32,
+    /// Most Newton / Gauss–Newton iterations (default 20).
+    pub max_iterations: u32,
+    /// Stop when the Euclidean norm of the Lagrangian's gradient is at most this (default 1e-6).
+    pub tolerance: f64,
+    /// 0: pin the two boundary vertices farthest apart (default); 2: use `pin_vertices`.
+    pub pin_count: u32,
+    /// The two pinned vertices when `pin_count` is 2.
+    pub pin_vertices: [u32; 2],
+    /// Their UVs: u0, v0, u1, v1.
+    pub pin_uv: [f64; 4],
+    /// Optional progress callback (may be NULL), called once per iteration.
+    pub progress: UvfProgressFn,
+    /// Passed to `progress` unchanged.
+    pub progress_user: *mut c_void,
+}
+
+impl Default for UvfAbfOptions {
+    fn default() -> Self {
+        UvfAbfOptions {
+            struct_size: std::mem::size_of::<Self>(),
+            variant: UVF_ABF_VARIANT_ABF_PLUS_PLUS,
+            max_iterations: 20,
+            tolerance: 1e-6,
+            pin_count: 0,
+            pin_vertices: [0, 0],
+            pin_uv: [0.0, 0.0, 1.0, 0.0],
+            progress: None,
+            progress_user: std::ptr::null_mut(),
+        }
+    }
+}
+
+/// What `uvf_abf` reports about the angle optimisation.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UvfAbfReport {
+    /// Iterations taken.
+    pub iterations: u32,
+    /// 1 when `gradient_norm <= tolerance`, else 0 (the UVs are still returned).
+    pub converged: u32,
+    /// Norm of the Lagrangian's gradient at the returned angles.
+    pub gradient_norm: f64,
+    /// Corners whose planar angle is outside (0, π) (their triangles flip).
+    pub invalid_angles: u64,
+}
+
+/// Fills `options` with defaults (ABF++, 20 iterations, tolerance 1e-6, automatic pins).
+///
+/// # Safety
+/// `options` must be NULL or point to a writable struct.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_abf_options_default(options: *mut UvfAbfOptions) {
+    if !options.is_null() {
+        options.write(UvfAbfOptions::default());
+    }
+}
+
+const ABF_OPTIONS_V1: usize = std::mem::size_of::<UvfAbfOptions>();
+
+/// Angle Based Flattening: ABF (Sheffer & de Sturler 2001) or ABF++ (Sheffer, Lévy,
+/// Mogilnitsky, Bogomyakov 2005; course notes §4.5). Finds planar corner angles closest to the
+/// 3D ones (energy Σ (α − β)²/β²) under the triangle, planarity and sine-law reconstruction
+/// constraints by Newton (ABF) or Gauss–Newton (ABF++, reduced 2·n_interior system) steps on
+/// the Lagrangian, then lays the angles out by least squares (ABF++ §5, the natural conformal
+/// system with the cotangents of the angles) with two pinned vertices.
+///
+/// Needs a connected genus-0 mesh with at least one boundary. `uv_out` receives 2 doubles per
+/// vertex (`vertex_count` pairs); unreferenced vertices get NaN. `options` may be NULL.
+/// `report_out` may be NULL; otherwise it receives the iterations and final gradient norm.
+/// Reaching `max_iterations` without convergence is not an error (see `report_out->converged`).
+/// Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`,
+/// `UVF_NUMERICAL_FAILURE` (singular system, divergence), `UVF_CANCELLED` (the progress
+/// callback returned non-zero; checked once per iteration), `UVF_INTERNAL_ERROR`. On failure
+/// the outputs are untouched.
+///
+/// # Safety
+/// The arrays must hold the stated number of elements.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_abf(
+    positions: *const f64,
+    vertex_count: usize,
+    triangles: *const u32,
+    triangle_count: usize,
+    options: *const UvfAbfOptions,
+    uv_out: *mut f64,
+    report_out: *mut UvfAbfReport,
+) -> UvfStatus {
+    guard(|| {
+        let o = read_options(
+            options,
+            UvfAbfOptions::default(),
+            ABF_OPTIONS_V1,
+            "UvfAbfOptions",
+        )?;
+        let variant = match o.variant {
+            UVF_ABF_VARIANT_ABF => AbfVariant::Abf,
+            UVF_ABF_VARIANT_ABF_PLUS_PLUS => AbfVariant::AbfPlusPlus,
+            v => {
+                return Err(Error::InvalidArgument(format!(
+                    "unknown ABF variant {v}; use one of UVF_ABF_VARIANT_*"
+                )))
+            }
+        };
+        let pins: Option<[Pin; 2]> = match o.pin_count {
+            0 => None,
+            2 => Some([
+                (o.pin_vertices[0], [o.pin_uv[0], o.pin_uv[1]]),
+                (o.pin_vertices[1], [o.pin_uv[2], o.pin_uv[3]]),
+            ]),
+            n => {
+                return Err(Error::InvalidArgument(format!(
+                    "pin_count must be 0 or 2, not {n}"
+                )))
+            }
+        };
+        let options = AbfOptions {
+            variant,
+            max_iterations: o.max_iterations,
+            tolerance: o.tolerance,
+            pins,
+        };
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mut callback = progress_closure(o.progress, o.progress_user);
+        let result = abf_with_progress(&mesh, &options, &mut Progress::new(&mut callback))?;
+        write_uv(&result.uv, uv_out)?;
+        if !report_out.is_null() {
+            let r = result.report;
+            // SAFETY: non-null, and the caller promises a writable UvfAbfReport.
+            report_out.write(UvfAbfReport {
+                iterations: r.iterations,
+                converged: r.converged as u32,
+                gradient_norm: r.gradient_norm,
+                invalid_angles: r.invalid_angles as u64,
+            });
+        }
+        Ok(())
+    })
+}
