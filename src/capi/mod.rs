@@ -10,6 +10,7 @@ pub mod errors;
 pub mod mesh;
 pub mod methods;
 pub mod metrics;
+pub mod closed;
 
 use crate::error::{Error, Result, UvfStatus};
 use crate::TriMesh;

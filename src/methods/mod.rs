@@ -4,3 +4,4 @@
 pub mod barycentric;
 pub mod conformal;
 pub mod floater;
+pub mod sphere;
