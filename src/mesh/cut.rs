@@ -282,14 +282,38 @@ fn find(parent: &mut [u32], mut x: u32) -> u32 {
 
 /// Tree–cotree cut graph, pruned: `true` for every edge of the cut graph (boundary edges
 /// included, they are cleared by the caller).
+///
+/// On a closed mesh every loop passes through the root, so a root off the cheap loops drags
+/// in the paths joining them to it. The graph is therefore computed twice: from the most
+/// curved vertex, then from the vertex of highest degree in that first cut graph (where
+/// loops already meet).
 fn cut_graph(mesh: &TriMesh, edges: &Edges, costs: &[f64]) -> Vec<bool> {
+    if !mesh.boundary_loops().is_empty() {
+        let sources: Vec<u32> = mesh.boundary_loops().iter().flatten().copied().collect();
+        return cut_graph_from(mesh, edges, costs, &sources);
+    }
+    let root = most_curved_vertex(mesh);
+    let first = cut_graph_from(mesh, edges, costs, &[root]);
+    let mut degree = vec![0u32; mesh.vertex_count()];
+    for (e, &h) in edges.halfedge.iter().enumerate() {
+        if first[e] {
+            degree[mesh.tail(h) as usize] += 1;
+            degree[mesh.head(h) as usize] += 1;
+        }
+    }
+    let hub = (0..mesh.vertex_count() as u32).max_by_key(|&v| (degree[v as usize], std::cmp::Reverse(v))).unwrap_or(root);
+    if hub == root || degree[hub as usize] == 0 {
+        return first;
+    }
+    let second = cut_graph_from(mesh, edges, costs, &[hub]);
+    let cost_of = |cut: &[bool]| -> f64 { cut.iter().zip(costs).filter(|(c, _)| **c).map(|(_, w)| w).sum() };
+    if cost_of(&second) <= cost_of(&first) { second } else { first }
+}
+
+/// The pruned tree–cotree cut graph with the primal tree grown from `sources`.
+fn cut_graph_from(mesh: &TriMesh, edges: &Edges, costs: &[f64], sources: &[u32]) -> Vec<bool> {
     let conn = mesh.connectivity();
-    let sources: Vec<u32> = if mesh.boundary_loops().is_empty() {
-        vec![most_curved_vertex(mesh)]
-    } else {
-        mesh.boundary_loops().iter().flatten().copied().collect()
-    };
-    let (dist, parent) = shortest_path_tree(mesh, edges, costs, &sources);
+    let (dist, parent) = shortest_path_tree(mesh, edges, costs, sources);
     let mut in_tree = vec![false; edges.len()];
     for &e in parent.iter().filter(|&&e| e != NONE) {
         in_tree[e as usize] = true;

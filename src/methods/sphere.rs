@@ -46,7 +46,7 @@
 
 use crate::boundary::{BoundaryShape, Distribution};
 use crate::error::{Error, Result};
-use crate::geometry::{cross, dot, norm};
+use crate::geometry::{cross, dot, norm, sub};
 use crate::methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions, Weights};
 use crate::mesh::{TriMesh, NONE};
 
@@ -113,10 +113,12 @@ pub fn spherical_map(mesh: &TriMesh, options: &SphereOptions) -> Result<SphereMa
     Ok(SphereMap { positions, flipped })
 }
 
-/// `det[a, b, c] = a · (b × c)`.
+/// `det[a, b, c] = a · (b × c)`, evaluated as `a · ((b − a) × (c − a))` (the same value: the
+/// dropped terms are `a · (a × ·) = 0`), whose differences keep their accuracy for the tiny
+/// triangles where `a · (b × c)` cancels catastrophically.
 #[inline]
 fn det(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
-    dot(a, cross(b, c))
+    dot(a, cross(sub(b, a), sub(c, a)))
 }
 
 /// Triangles whose spherical orientation `det[p0, p1, p2]` is not positive (or not finite).
