@@ -287,7 +287,39 @@ fn find(parent: &mut [u32], mut x: u32) -> u32 {
 /// in the paths joining them to it. The graph is therefore computed twice: from the most
 /// curved vertex, then from the vertex of highest degree in that first cut graph (where
 /// loops already meet).
+///
+/// A third candidate ignores roots altogether: the complement of the maximum dual spanning tree
+/// by edge cost (every expensive edge that can be kept uncut is), pruned. The cheapest of the
+/// candidates (total cost of the cut edges) is returned.
 fn cut_graph(mesh: &TriMesh, edges: &Edges, costs: &[f64]) -> Vec<bool> {
+    let cost_of = |cut: &[bool]| -> f64 { cut.iter().zip(costs).filter(|(c, _)| **c).map(|(_, w)| w).sum() };
+    let by_cost = cut_graph_by_cost(mesh, edges, costs);
+    let rooted = rooted_cut_graph(mesh, edges, costs);
+    if cost_of(&by_cost) < cost_of(&rooted) { by_cost } else { rooted }
+}
+
+/// Complement of the maximum dual spanning tree by edge cost, pruned.
+fn cut_graph_by_cost(mesh: &TriMesh, edges: &Edges, costs: &[f64]) -> Vec<bool> {
+    let conn = mesh.connectivity();
+    let mut order: Vec<u32> = (0..edges.len() as u32).filter(|&e| !conn.is_boundary(edges.halfedge[e as usize])).collect();
+    order.sort_unstable_by(|&a, &b| costs[b as usize].total_cmp(&costs[a as usize]).then(a.cmp(&b)));
+    let mut face_set: Vec<u32> = (0..mesh.triangle_count() as u32).collect();
+    let mut cut = vec![true; edges.len()];
+    for &e in &order {
+        let h = edges.halfedge[e as usize];
+        let (a, b) = (find(&mut face_set, h / 3), find(&mut face_set, conn.twin[h as usize] / 3));
+        if a != b {
+            face_set[a.max(b) as usize] = a.min(b);
+            cut[e as usize] = false;
+        }
+    }
+    prune_dangling(mesh, edges, &mut cut);
+    cut
+}
+
+/// The tree–cotree candidates (from the boundary, or from the most curved vertex and then the
+/// hub of that first graph).
+fn rooted_cut_graph(mesh: &TriMesh, edges: &Edges, costs: &[f64]) -> Vec<bool> {
     if !mesh.boundary_loops().is_empty() {
         let sources: Vec<u32> = mesh.boundary_loops().iter().flatten().copied().collect();
         return cut_graph_from(mesh, edges, costs, &sources);
