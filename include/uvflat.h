@@ -85,6 +85,68 @@
 #define UVF_DISTRIBUTION_CENTRIPETAL 2
 
 /**
+ * Symmetric Dirichlet energy minimized by SLIM (Rabinovich et al. 2017).
+ */
+#define UVF_NONLINEAR_SLIM 0
+
+/**
+ * As-rigid-as-possible, local-global (Liu et al. 2008).
+ */
+#define UVF_NONLINEAR_ARAP 1
+
+/**
+ * MIPS (Hormann & Greiner 2000), conformal.
+ */
+#define UVF_NONLINEAR_MIPS 2
+
+/**
+ * L2 stretch (Sander et al. 2001).
+ */
+#define UVF_NONLINEAR_STRETCH 3
+
+/**
+ * Green–Lagrange deformation tensor (Maillot et al. 1993).
+ */
+#define UVF_NONLINEAR_GREEN_LAGRANGE 4
+
+/**
+ * Degener et al. 2003 θ-energy (angle × area^θ).
+ */
+#define UVF_NONLINEAR_DEGENER 5
+
+/**
+ * Default edge cost: length divided by `1 + 3·θ/π` (θ the dihedral angle).
+ */
+#define UVF_CUT_COST_CURVATURE 0
+
+/**
+ * Plain edge length.
+ */
+#define UVF_CUT_COST_LENGTH 1
+
+/**
+ * Caller-given cost per half-edge in `edge_cost`.
+ */
+#define UVF_CUT_COST_GIVEN 2
+
+/**
+ * Tutte embedding of the mesh minus one vertex star, gnomonic lift, flip-guarded relaxation:
+ * never flips (the default).
+ */
+#define UVF_SPHERE_TUTTE_GNOMONIC 0
+
+/**
+ * Projected Gauss–Seidel barycentric iteration (course notes §6.1; no guarantee).
+ */
+#define UVF_SPHERE_GAUSS_SEIDEL 1
+
+/**
+ * Haker et al. 2000: harmonic map of the mesh minus one triangle + inverse stereographic
+ * projection (no guarantee).
+ */
+#define UVF_SPHERE_STEREOGRAPHIC 2
+
+/**
  * Largest fraction of the total weight one side may take.
  */
 #define MAX_SIDE_FRACTION 0.55
@@ -98,6 +160,11 @@
  * Vertex numbers must fit in 31 bits for the packed edge keys.
  */
 #define MAX_VERTICES (1 << 31)
+
+/**
+ * Fraction of the maximal flip-free step tried first (Smith & Schaefer 2015).
+ */
+#define MAX_STEP_FRACTION 0.8
 
 /**
  * Status codes of the C ABI. `Ok` is 0; every failure class has its own code.
@@ -141,6 +208,18 @@ typedef enum UvfStatus {
    */
   UVF_IO_ERROR = 8,
 } UvfStatus;
+
+/**
+ * A factored intrinsic map whose boundary can be moved (opaque; create with
+ * `uvf_boundary_editor_new`, free with `uvf_boundary_editor_free`).
+ */
+typedef struct UvfBoundaryEditor UvfBoundaryEditor;
+
+/**
+ * A mesh cut into a disk: created by `uvf_cut_to_disk`, read with the `uvf_cut_*` accessors,
+ * released with `uvf_cut_free`.
+ */
+typedef struct UvfCut UvfCut;
 
 /**
  * Progress callback: receives the caller's `user` pointer and the fraction done in [0, 1];
@@ -213,46 +292,23 @@ typedef struct UvfAbfReport {
 } UvfAbfReport;
 
 /**
- * Counts and topological invariants of a mesh.
+ * Options of the constrained natural conformal maps and of the boundary editor. Initialise
+ * with `uvf_intrinsic_tool_options_default`.
  */
-typedef struct UvfMeshInfo {
+typedef struct UvfIntrinsicToolOptions {
   /**
-   * Vertices in the input arrays (including unreferenced ones).
+   * `sizeof(UvfIntrinsicToolOptions)`, set by the default initialiser.
    */
-  size_t vertices;
+  size_t struct_size;
   /**
-   * Vertices used by at least one triangle.
+   * Optional progress callback (may be NULL).
    */
-  size_t referenced_vertices;
+  UvfProgressFn progress;
   /**
-   * Triangles.
+   * Passed to `progress` unchanged.
    */
-  size_t triangles;
-  /**
-   * Undirected edges.
-   */
-  size_t edges;
-  /**
-   * Connected components.
-   */
-  size_t components;
-  /**
-   * Boundary loops.
-   */
-  size_t boundary_loops;
-  /**
-   * Total number of vertices over all boundary loops (size of `uvf_boundary_loops` output).
-   */
-  size_t boundary_vertices;
-  /**
-   * Euler characteristic V − E + F.
-   */
-  int64_t euler_characteristic;
-  /**
-   * Total genus.
-   */
-  int64_t genus;
-} UvfMeshInfo;
+  void *progress_user;
+} UvfIntrinsicToolOptions;
 
 /**
  * Options of `uvf_fixed_boundary_map`. Initialise with `uvf_fixed_boundary_options_default`.
@@ -303,6 +359,67 @@ typedef struct UvfFixedBoundaryOptions {
    */
   void *progress_user;
 } UvfFixedBoundaryOptions;
+
+/**
+ * A point of the surface (triangle index and barycentric coordinates with respect to its
+ * three corners, normalized by their sum) and the UV it must map to.
+ */
+typedef struct UvfPointConstraint {
+  /**
+   * Triangle index (< triangle_count).
+   */
+  uint32_t triangle;
+  /**
+   * Barycentric coordinates of the point (must not sum to zero).
+   */
+  double barycentric[3];
+  /**
+   * Target UV.
+   */
+  double uv[2];
+} UvfPointConstraint;
+
+/**
+ * Counts and topological invariants of a mesh.
+ */
+typedef struct UvfMeshInfo {
+  /**
+   * Vertices in the input arrays (including unreferenced ones).
+   */
+  size_t vertices;
+  /**
+   * Vertices used by at least one triangle.
+   */
+  size_t referenced_vertices;
+  /**
+   * Triangles.
+   */
+  size_t triangles;
+  /**
+   * Undirected edges.
+   */
+  size_t edges;
+  /**
+   * Connected components.
+   */
+  size_t components;
+  /**
+   * Boundary loops.
+   */
+  size_t boundary_loops;
+  /**
+   * Total number of vertices over all boundary loops (size of `uvf_boundary_loops` output).
+   */
+  size_t boundary_vertices;
+  /**
+   * Euler characteristic V − E + F.
+   */
+  int64_t euler_characteristic;
+  /**
+   * Total genus.
+   */
+  int64_t genus;
+} UvfMeshInfo;
 
 /**
  * Options of `uvf_natural_conformal_map`. Initialise with
@@ -390,6 +507,130 @@ typedef struct UvfMetrics {
   double area_max;
 } UvfMetrics;
 
+/**
+ * Options of `uvf_nonlinear_map`. Initialise with `uvf_nonlinear_options_default`.
+ */
+typedef struct UvfNonlinearOptions {
+  /**
+   * `sizeof(UvfNonlinearOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * One of `UVF_NONLINEAR_*` (default `UVF_NONLINEAR_SLIM`).
+   */
+  uint32_t method;
+  /**
+   * Maximum number of iterations (default 100).
+   */
+  uint32_t iterations;
+  /**
+   * Stop when an iteration lowers the energy by less than `tolerance × energy` (default
+   * 1e-7; must be ≥ 0).
+   */
+  double tolerance;
+  /**
+   * θ of `UVF_NONLINEAR_DEGENER` (default 3; must be > 0).
+   */
+  double theta;
+  /**
+   * Optional progress callback (may be NULL), called once per iteration; returning
+   * non-zero cancels within that iteration.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfNonlinearOptions;
+
+/**
+ * What `uvf_nonlinear_map` reports about its run.
+ */
+typedef struct UvfNonlinearReport {
+  /**
+   * Iterations done.
+   */
+  uint32_t iterations;
+  /**
+   * 1 when the tolerance was reached or no step could lower the energy; 0 when the
+   * iteration limit stopped the method.
+   */
+  uint32_t converged;
+  /**
+   * Energy of the starting map (3D-area-weighted mean of the method's local measure).
+   */
+  double initial_energy;
+  /**
+   * Energy of the returned map (never above `initial_energy`).
+   */
+  double final_energy;
+} UvfNonlinearReport;
+
+/**
+ * Options of `uvf_cut_to_disk`. Initialise with `uvf_cut_options_default`.
+ */
+typedef struct UvfCutOptions {
+  /**
+   * `sizeof(UvfCutOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * One of `UVF_CUT_COST_*` (default curvature-weighted length).
+   */
+  uint32_t cost;
+  /**
+   * For `UVF_CUT_COST_GIVEN`: 3 doubles per triangle, the cost of half-edge `3t + k` (from
+   * corner k of triangle t to corner k + 1), finite and ≥ 0; an interior edge costs the
+   * mean of its two half-edges. Low cost attracts the cut.
+   */
+  const double *edge_cost;
+} UvfCutOptions;
+
+/**
+ * Sizes and lengths of a cut (see `uvf_cut_info`).
+ */
+typedef struct UvfCutInfo {
+  /**
+   * Vertices of the cut mesh (input vertices duplicated along the cut; unreferenced input
+   * vertices dropped).
+   */
+  size_t vertex_count;
+  /**
+   * Triangles (the input's, same order).
+   */
+  size_t triangle_count;
+  /**
+   * Cut edges (interior input edges opened by the cut).
+   */
+  size_t edge_count;
+  /**
+   * Total 3D length of the cut edges.
+   */
+  double seam_length;
+  /**
+   * Total 3D length of all input edges.
+   */
+  double total_edge_length;
+} UvfCutInfo;
+
+/**
+ * Options of `uvf_spherical_map`. Initialise with `uvf_sphere_options_default`.
+ */
+typedef struct UvfSphereOptions {
+  /**
+   * `sizeof(UvfSphereOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * One of `UVF_SPHERE_*` (default `UVF_SPHERE_TUTTE_GNOMONIC`).
+   */
+  uint32_t method;
+  /**
+   * Relaxation sweeps (default 100); ignored by the stereographic method.
+   */
+  uint32_t sweeps;
+} UvfSphereOptions;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -445,6 +686,202 @@ const char *uvf_version(void);
  * ABI version of the loaded library; compare with `UVF_ABI_VERSION` from the header.
  */
 uint32_t uvf_abi_version(void);
+
+/**
+ * Fills `options` with defaults (no progress callback).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_intrinsic_tool_options_default(struct UvfIntrinsicToolOptions *options);
+
+/**
+ * Fixed-boundary map with point constraints (Desbrun et al. 2002 §4.1, Lagrange multipliers):
+ * the map of `uvf_fixed_boundary_map` (same `options`, any weights and boundary) with each of
+ * the `constraint_count` points of `constraints` placed exactly on its target. Already
+ * satisfied constraints leave the map unchanged.
+ *
+ * `uv_out` receives 2 doubles per vertex. Returns `UVF_OK`; `UVF_INVALID_ARGUMENT` for a bad
+ * pointer, option, triangle index, zero-sum barycentric coordinates, a non-finite target, or
+ * conflicting constraints (linearly dependent ones with different targets, or a point whose
+ * triangle lies entirely on the fixed boundary given another position — the message names the
+ * constraint); `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`, `UVF_NUMERICAL_FAILURE`,
+ * `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure `uv_out` is untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_constrained_fixed_boundary_map(const double *positions,
+                                                  size_t vertex_count,
+                                                  const uint32_t *triangles,
+                                                  size_t triangle_count,
+                                                  const struct UvfFixedBoundaryOptions *options,
+                                                  const struct UvfPointConstraint *constraints,
+                                                  size_t constraint_count,
+                                                  double *uv_out);
+
+/**
+ * Natural conformal map (Desbrun et al. 2002 §4.2 eq. 7 = LSCM) with point constraints
+ * instead of two pins (§4.1): minimizes the conformal energy subject to every constraint.
+ * Needs at least 2 constraints, not all with the same target; two vertex constraints give
+ * the 2-pin natural conformal map.
+ *
+ * `uv_out` receives 2 doubles per vertex (NaN for unreferenced vertices); `options` may be
+ * NULL. Statuses as `uvf_constrained_fixed_boundary_map`.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_constrained_natural_conformal_map(const double *positions,
+                                                     size_t vertex_count,
+                                                     const uint32_t *triangles,
+                                                     size_t triangle_count,
+                                                     const struct UvfPointConstraint *constraints,
+                                                     size_t constraint_count,
+                                                     const struct UvfIntrinsicToolOptions *options,
+                                                     double *uv_out);
+
+/**
+ * Natural conformal map with any number (≥ 2) of pinned vertices: `pin_vertices[i]` goes to
+ * (`pin_uv[2i]`, `pin_uv[2i+1]`) (vertex constraints, Desbrun et al. 2002 §4.1). Pins that
+ * conflict (one vertex pinned twice to different places) give `UVF_INVALID_ARGUMENT`.
+ *
+ * `pin_vertices` holds `pin_count` indices, `pin_uv` 2·`pin_count` doubles; `uv_out` 2 doubles
+ * per vertex. Statuses as `uvf_constrained_fixed_boundary_map`.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_pinned_natural_conformal_map(const double *positions,
+                                                size_t vertex_count,
+                                                const uint32_t *triangles,
+                                                size_t triangle_count,
+                                                const uint32_t *pin_vertices,
+                                                const double *pin_uv,
+                                                size_t pin_count,
+                                                const struct UvfIntrinsicToolOptions *options,
+                                                double *uv_out);
+
+/**
+ * Factors the intrinsic map λ·DCP + μ·DAP (Desbrun et al. 2002 §3.4) of a disk (holes are
+ * filled) with its outer boundary fixed, for real-time boundary editing (§4.2). On success
+ * `*editor_out` owns the editor (free it with `uvf_boundary_editor_free`); it does not keep
+ * pointers to the input arrays. Cost: one sparse factorization (Cholesky when μ = 0, LU
+ * otherwise).
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL `editor_out`, non-finite λ/μ or both zero),
+ * `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`, `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`,
+ * `UVF_INTERNAL_ERROR`. On failure `*editor_out` is set to NULL.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `editor_out` must be writable.
+ */
+enum UvfStatus uvf_boundary_editor_new(const double *positions,
+                                       size_t vertex_count,
+                                       const uint32_t *triangles,
+                                       size_t triangle_count,
+                                       double lambda,
+                                       double mu,
+                                       const struct UvfIntrinsicToolOptions *options,
+                                       struct UvfBoundaryEditor **editor_out);
+
+/**
+ * Frees an editor made by `uvf_boundary_editor_new` (NULL is ignored).
+ *
+ * # Safety
+ * `editor` must be NULL or an editor not yet freed, and no solve may be running on it.
+ */
+void uvf_boundary_editor_free(struct UvfBoundaryEditor *editor);
+
+/**
+ * Number of boundary vertices of the editor's outer loop (`*count_out`), and, when
+ * `vertices_out` is not NULL, their indices in the order `uvf_boundary_editor_solve` expects
+ * (`vertices_out` must hold `*count_out` entries: call once with NULL to get the count).
+ * Returns `UVF_OK` or `UVF_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * `editor` must be a live editor; `count_out` writable; `vertices_out` NULL or large enough.
+ */
+enum UvfStatus uvf_boundary_editor_boundary(const struct UvfBoundaryEditor *editor,
+                                            size_t *count_out,
+                                            uint32_t *vertices_out);
+
+/**
+ * The map for new boundary positions (Desbrun et al. 2002 §4.2): `boundary_uv` holds 2
+ * doubles per boundary vertex, in `uvf_boundary_editor_boundary` order (`boundary_count`
+ * vertices); `uv_out` receives 2 doubles per mesh vertex (`vertex_count` of the mesh given to
+ * `uvf_boundary_editor_new`; NaN for unreferenced vertices). One sparse product and one pair
+ * of triangular solves; safe to call concurrently on one editor from several threads.
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointers, wrong count, non-finite position),
+ * `UVF_NUMERICAL_FAILURE`, `UVF_INTERNAL_ERROR`. On failure `uv_out` is untouched.
+ *
+ * # Safety
+ * `editor` must be a live editor; the arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_boundary_editor_solve(const struct UvfBoundaryEditor *editor,
+                                         const double *boundary_uv,
+                                         size_t boundary_count,
+                                         double *uv_out);
+
+/**
+ * The explicit Green-function basis (impulse responses, Desbrun et al. 2002 §4.2): `basis_out`
+ * receives b × n doubles (b boundary vertices, n mesh vertices), `basis_out[i * n + v]` being
+ * the weight of boundary vertex i in the UV of vertex v, so that
+ * `uv[v] = Σ_i basis_out[i * n + v] · boundary_uv[i]`. Memory: 8·n·b bytes; when that exceeds
+ * `max_bytes` the call returns `UVF_INVALID_ARGUMENT` without computing anything. Cost: b
+ * solves (in blocks of 32).
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_NUMERICAL_FAILURE`, `UVF_INTERNAL_ERROR`.
+ *
+ * # Safety
+ * `editor` must be a live editor; `basis_out` must hold b·n doubles.
+ */
+enum UvfStatus uvf_boundary_editor_basis(const struct UvfBoundaryEditor *editor,
+                                         size_t max_bytes,
+                                         double *basis_out);
+
+/**
+ * Spectral conformal map (Mullen, Tong, Alliez, Desbrun 2008). Not implemented yet: always
+ * returns `UVF_NOT_IMPLEMENTED` (or `UVF_INVALID_ARGUMENT` for NULL mesh arrays).
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_spectral_conformal_map(const double *positions,
+                                          size_t vertex_count,
+                                          const uint32_t *triangles,
+                                          size_t triangle_count,
+                                          double *uv_out);
+
+/**
+ * Near-optimal intrinsic map (Desbrun et al. 2002 §5.1). Not implemented yet: always returns
+ * `UVF_NOT_IMPLEMENTED`.
+ *
+ * # Safety
+ * Never reads its arguments.
+ */
+enum UvfStatus uvf_intrinsic_optimal_map(const double *positions,
+                                         size_t vertex_count,
+                                         const uint32_t *triangles,
+                                         size_t triangle_count,
+                                         uint32_t energy,
+                                         double *lambda_out,
+                                         double *uv_out);
+
+/**
+ * Boundary-optimized intrinsic map (Desbrun et al. 2002 §5.2). Not implemented yet: always
+ * returns `UVF_NOT_IMPLEMENTED`.
+ *
+ * # Safety
+ * Never reads its arguments.
+ */
+enum UvfStatus uvf_boundary_optimized_map(const double *positions,
+                                          size_t vertex_count,
+                                          const uint32_t *triangles,
+                                          size_t triangle_count,
+                                          uint32_t energy,
+                                          double *uv_out);
 
 /**
  * Validates a mesh and reports its topology.
@@ -575,6 +1012,171 @@ enum UvfStatus uvf_metrics(const double *positions,
                            size_t uv_count,
                            const uint32_t *uv_triangles,
                            struct UvfMetrics *out);
+
+/**
+ * Fills `options` with defaults (SLIM, 100 iterations, tolerance 1e-7, θ = 3).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_nonlinear_options_default(struct UvfNonlinearOptions *options);
+
+/**
+ * Distortion-minimizing parameterization with a free boundary that never flips a triangle.
+ *
+ * Starts from the mean value map with a circle boundary (bijective; ARAP: from the natural
+ * conformal map when it has no flipped triangle), scaled to the input's area, and minimizes
+ * the method's energy (local measure of the Jacobian's singular values σ1 ≥ σ2, weighted by
+ * 3D area; course notes §4.3–4.4) with a line search that stops every step before any
+ * triangle's signed area reaches zero (Smith & Schaefer 2015), so the result has no flipped
+ * triangle and the energy decreases monotonically:
+ * - `UVF_NONLINEAR_SLIM`: symmetric Dirichlet σ1² + σ1⁻² + σ2² + σ2⁻², by SLIM's reweighted
+ *   local-global proxy (Rabinovich et al. 2017 eq. 8–9).
+ * - `UVF_NONLINEAR_ARAP`: (σ1 − 1)² + (σ2 − 1)², local-global (Liu et al. 2008 eq. 3–6).
+ * - `UVF_NONLINEAR_MIPS`: σ1/σ2 + σ2/σ1 (Hormann & Greiner 2000).
+ * - `UVF_NONLINEAR_STRETCH`: Sander et al. 2001 L2 stretch (squared, scale-normalized).
+ * - `UVF_NONLINEAR_GREEN_LAGRANGE`: (σ1² − 1)² + (σ2² − 1)² (Maillot et al. 1993).
+ * - `UVF_NONLINEAR_DEGENER`: (σ1/σ2 + σ2/σ1)(σ1σ2 + 1/(σ1σ2))^θ (Degener et al. 2003).
+ *
+ * The last four use L-BFGS preconditioned by the cotangent Laplacian.
+ *
+ * `uv_out` receives 2 doubles per vertex (`vertex_count` pairs); unreferenced vertices get
+ * NaN. `options` may be NULL for defaults; `report_out` may be NULL. Results are
+ * deterministic. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (unknown method, tolerance < 0,
+ * θ ≤ 0, bad pointers), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (not a single genus-0
+ * component with a boundary), `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`,
+ * `UVF_INTERNAL_ERROR`. On failure `uv_out` and `report_out` are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_nonlinear_map(const double *positions,
+                                 size_t vertex_count,
+                                 const uint32_t *triangles,
+                                 size_t triangle_count,
+                                 const struct UvfNonlinearOptions *options,
+                                 double *uv_out,
+                                 struct UvfNonlinearReport *report_out);
+
+/**
+ * Fills `options` with defaults (curvature-weighted edge length).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_cut_options_default(struct UvfCutOptions *options);
+
+/**
+ * Cuts a connected manifold mesh (closed or with boundary loops, any genus) into a topological
+ * disk: tree–cotree cut graph (Eppstein 2003) with a shortest-path primal tree and a maximum
+ * dual tree by loop length (Erickson & Whittlesey's greedy loops), dangling branches pruned,
+ * boundary loops joined; closed genus-0 meshes are cut along a path between two far vertices.
+ * The cut is steered by the edge cost (Seamster-like: short edges and sharp creases are cheap).
+ *
+ * On success `*cut_out` receives a handle to free with `uvf_cut_free`. The cut mesh has the
+ * input's triangles (same order) over a new vertex set; run any disk method on
+ * (`uvf_cut_copy_positions`, `uvf_cut_copy_triangles`) and use the result as per-corner UVs.
+ * `options` may be NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointer, bad cost),
+ * `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (several components), `UVF_INTERNAL_ERROR`.
+ * On failure `*cut_out` is untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `cut_out` must be writable.
+ */
+enum UvfStatus uvf_cut_to_disk(const double *positions,
+                               size_t vertex_count,
+                               const uint32_t *triangles,
+                               size_t triangle_count,
+                               const struct UvfCutOptions *options,
+                               struct UvfCut **cut_out);
+
+/**
+ * Sizes and seam length of a cut. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
+ *
+ * # Safety
+ * `cut` must be a live handle or NULL; `info_out` writable.
+ */
+enum UvfStatus uvf_cut_info(const struct UvfCut *cut, struct UvfCutInfo *info_out);
+
+/**
+ * The cut edges as pairs of input vertex indices `a < b`: `2 × edge_count` entries written to
+ * `edges_out`, whose capacity (in `uint32_t`) is `capacity`. Returns `UVF_OK` or
+ * `UVF_INVALID_ARGUMENT` (NULL, capacity too small; output untouched).
+ *
+ * # Safety
+ * `cut` must be a live handle or NULL; `edges_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_cut_copy_edges(const struct UvfCut *cut, uint32_t *edges_out, size_t capacity);
+
+/**
+ * Triangles of the cut mesh: `3 × triangle_count` cut-mesh vertex indices (corner k of input
+ * triangle t at `3t + k`), i.e. the per-corner UV indices of any map computed on the cut mesh.
+ * Statuses as `uvf_cut_copy_edges`.
+ *
+ * # Safety
+ * `cut` must be a live handle or NULL; `triangles_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_cut_copy_triangles(const struct UvfCut *cut,
+                                      uint32_t *triangles_out,
+                                      size_t capacity);
+
+/**
+ * The input vertex of every cut-mesh vertex: `vertex_count` entries. Statuses as
+ * `uvf_cut_copy_edges`.
+ *
+ * # Safety
+ * `cut` must be a live handle or NULL; `original_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_cut_copy_original_vertices(const struct UvfCut *cut,
+                                              uint32_t *original_out,
+                                              size_t capacity);
+
+/**
+ * Positions of the cut-mesh vertices (copies of their input vertices): `3 × vertex_count`
+ * doubles. Statuses as `uvf_cut_copy_edges`.
+ *
+ * # Safety
+ * `cut` must be a live handle or NULL; `positions_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_cut_copy_positions(const struct UvfCut *cut,
+                                      double *positions_out,
+                                      size_t capacity);
+
+/**
+ * Releases a cut handle (NULL is ignored).
+ *
+ * # Safety
+ * `cut` must come from `uvf_cut_to_disk` and not have been freed.
+ */
+void uvf_cut_free(struct UvfCut *cut);
+
+/**
+ * Fills `options` with defaults (Tutte–gnomonic, 100 sweeps).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_sphere_options_default(struct UvfSphereOptions *options);
+
+/**
+ * Spherical parameterization of a closed genus-0 mesh (course notes §6.1): unit-sphere
+ * positions, 3 doubles per vertex in `sphere_out` (`vertex_count` triples; NaN for
+ * unreferenced vertices), and in `*flipped_out` the number of triangles with
+ * `det[p0, p1, p2] ≤ 0` (0 for `UVF_SPHERE_TUTTE_GNOMONIC` by construction). `options` may be
+ * NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`,
+ * `UVF_UNSUPPORTED_TOPOLOGY` (not one closed genus-0 surface), `UVF_NUMERICAL_FAILURE`,
+ * `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `flipped_out` must be writable.
+ */
+enum UvfStatus uvf_spherical_map(const double *positions,
+                                 size_t vertex_count,
+                                 const uint32_t *triangles,
+                                 size_t triangle_count,
+                                 const struct UvfSphereOptions *options,
+                                 double *sphere_out,
+                                 size_t *flipped_out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -61,6 +61,9 @@ pub enum Error {
     InconsistentOrientation { a: u32, b: u32, first: usize, second: usize },
     /// The method needs a topological disk (or a disk with holes) and the mesh is not one.
     NotADisk { components: usize, boundary_loops: usize, genus: i64 },
+    /// The method needs a closed genus-0 surface (spherical parameterization) and the mesh is
+    /// not one.
+    NotASphere { boundary_loops: usize, genus: i64 },
     /// The mesh has more than one connected component.
     MultipleComponents { components: usize },
     /// A solver failed (matrix not positive definite, singular, non-finite result).
@@ -95,7 +98,7 @@ impl Error {
             | NonManifoldEdge { .. }
             | NonManifoldVertex { .. }
             | InconsistentOrientation { .. } => UvfStatus::UVF_INVALID_MESH,
-            NotADisk { .. } | MultipleComponents { .. } => UvfStatus::UVF_UNSUPPORTED_TOPOLOGY,
+            NotADisk { .. } | NotASphere { .. } | MultipleComponents { .. } => UvfStatus::UVF_UNSUPPORTED_TOPOLOGY,
             Numerical(_) => UvfStatus::UVF_NUMERICAL_FAILURE,
             Cancelled => UvfStatus::UVF_CANCELLED,
             NotImplemented(_) => UvfStatus::UVF_NOT_IMPLEMENTED,
@@ -152,6 +155,10 @@ impl fmt::Display for Error {
             NotADisk { components, boundary_loops, genus } => write!(
                 f,
                 "the mesh is not a topological disk: {components} component(s), {boundary_loops} boundary loop(s), genus {genus}"
+            ),
+            NotASphere { boundary_loops, genus } => write!(
+                f,
+                "the mesh is not a closed genus-0 surface: {boundary_loops} boundary loop(s), genus {genus}"
             ),
             MultipleComponents { components } => write!(
                 f,

@@ -149,8 +149,6 @@ fn bad_meshes_print_the_library_message_and_exit_1() {
         ("bad_nonmanifold_vertex.obj", "separate fans"),
         ("bad_inconsistent_orientation.obj", "inconsistently oriented"),
         ("bad_empty_no_faces.obj", "no triangles"),
-        ("closed_g0_cow.obj", "not a topological disk"),
-        ("holes_punctured_torus.obj", "genus 1"),
     ];
     for (file, expected) in cases {
         let o = uvflat(&["unwrap", &format!("{MESHES}/{file}"), "-o", scratch("bad.obj").to_str().unwrap()]);
@@ -183,4 +181,47 @@ fn options_that_do_not_apply_are_usage_errors() {
     let o = uvflat(&["metrics", SAMPLE]);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("no texture coordinates"), "{}", stderr(&o));
+}
+
+#[test]
+fn unwrap_cuts_closed_meshes_and_writes_per_corner_uvs() {
+    let out = scratch("torus.obj");
+    let input = format!("{MESHES}/closed_g1_torus.obj");
+    let report = json(&uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--method", "mean-value", "--json"]));
+    assert_eq!(report["flipped"], 0, "{report}");
+    assert!(report["cut_edges"].as_u64().is_some_and(|e| e > 0), "{report}");
+    assert!(report["seam_ratio"].as_f64().is_some_and(|r| r > 0.0 && r < 0.1), "{report}");
+    let uv_vertices = report["uv_vertices"].as_u64().unwrap() as usize;
+    assert_eq!(count_lines(&out, "v "), 2304);
+    assert_eq!(count_lines(&out, "vt "), uv_vertices);
+    assert!(uv_vertices > 2304, "seam vertices are duplicated in the uv set");
+    let measured = json(&uvflat(&["metrics", out.to_str().unwrap(), "--json"]));
+    assert_eq!(measured["flipped"], 0);
+    // Without a cut the disk methods refuse the torus.
+    let o = uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--cut", "none"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    // Atlas mode is not implemented and says so.
+    let o = uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--atlas"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("not implemented"), "{}", stderr(&o));
+}
+
+#[test]
+fn sphere_writes_unit_sphere_vertices_without_flips() {
+    let out = scratch("bunny_sphere.obj");
+    let input = format!("{MESHES}/closed_g0_bunny.obj");
+    let report = json(&uvflat(&["sphere", &input, "-o", out.to_str().unwrap(), "--json"]));
+    assert_eq!(report["flipped"], 0, "{report}");
+    assert_eq!(report["method"], "tutte-gnomonic");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let radii: Vec<f64> = text
+        .lines()
+        .filter(|l| l.starts_with("v "))
+        .map(|l| l.split_whitespace().skip(1).map(|x| x.parse::<f64>().unwrap().powi(2)).sum::<f64>().sqrt())
+        .collect();
+    assert_eq!(radii.len(), 3301);
+    assert!(radii.iter().all(|r| (r - 1.0).abs() < 1e-9));
+    let o = uvflat(&["sphere", &format!("{MESHES}/closed_g1_torus.obj"), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("genus"), "{}", stderr(&o));
 }

@@ -8,7 +8,9 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use uvflat::io::obj::{read_obj, write_obj_with_uv, ObjMesh};
+use uvflat::io::obj::{read_obj, write_obj_with_corner_uv, write_obj_with_uv, ObjMesh};
+use uvflat::mesh::cut::{cut_to_disk, total_edge_length, EdgeCost};
+use uvflat::methods::sphere::{spherical_map, SphereMethod, SphereOptions};
 use uvflat::io::svg::write_uv_svg;
 use uvflat::methods::abf::{abf, AbfOptions, AbfVariant};
 use uvflat::methods::conformal::Pin;
@@ -46,6 +48,45 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Maps a closed genus-0 mesh onto the unit sphere and writes OUT.obj with the sphere
+    /// positions as vertices (same faces).
+    Sphere(SphereArgs),
+}
+
+#[derive(clap::Args)]
+struct SphereArgs {
+    /// Input mesh (OBJ), closed genus 0.
+    input: PathBuf,
+    /// Output OBJ with unit-sphere vertex positions.
+    #[arg(short = 'o', long = "output")]
+    output: PathBuf,
+    /// Spherical parameterization method.
+    #[arg(long, value_enum, default_value_t = SphereMethodName::TutteGnomonic)]
+    method: SphereMethodName,
+    /// Relaxation sweeps (Gauss–Seidel iterations, guarded relaxation of tutte-gnomonic).
+    #[arg(long, default_value_t = 100)]
+    sweeps: usize,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum SphereMethodName {
+    /// Tutte embedding minus a vertex star, gnomonic lift, flip-guarded relaxation (never flips).
+    TutteGnomonic,
+    /// Projected Gauss–Seidel barycentric iteration (course notes §6.1; may flip).
+    GaussSeidel,
+    /// Haker et al. 2000: harmonic map minus one triangle, inverse stereographic (may flip).
+    Stereographic,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum CutMode {
+    /// Cut closed and higher-genus meshes into a disk (tree–cotree cut graph).
+    Auto,
+    /// Never cut (the method must accept the mesh as it is).
+    None,
 }
 
 #[derive(clap::Args)]
@@ -87,6 +128,19 @@ struct UnwrapArgs {
     /// Print one JSON object (method, seconds, metrics) instead of text.
     #[arg(long)]
     json: bool,
+    /// Cut the mesh into a disk first: `auto` (the default when the mesh is closed or has
+    /// handles) or `none`. UVs are then per corner (`vt` indices differ from `v` indices).
+    #[arg(long, value_enum)]
+    cut: Option<CutMode>,
+    /// Atlas mode: charts under a stretch bound, packed into the unit square (not implemented).
+    #[arg(long)]
+    atlas: bool,
+    /// Atlas mode: largest L2 stretch per chart.
+    #[arg(long = "max-stretch")]
+    max_stretch: Option<f64>,
+    /// Atlas mode: margin between packed charts.
+    #[arg(long)]
+    margin: Option<f64>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -180,6 +234,7 @@ fn main() -> ExitCode {
             Ok(())
         }
         Command::Info { input, json } => info(&input, json),
+        Command::Sphere(args) => sphere(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -209,17 +264,41 @@ fn load_mesh(path: &Path) -> Result<(ObjMesh, TriMesh), Failure> {
 
 fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
     check_option_combination(args)?;
+    if args.atlas {
+        return Err(Error::NotImplemented("atlas mode (--atlas): chart segmentation and packing").into());
+    }
+    if args.max_stretch.is_some() || args.margin.is_some() {
+        return Err(usage("--max-stretch and --margin apply to --atlas only"));
+    }
     let obj = read_obj(&args.input)?;
     let start = Instant::now();
     let mesh = TriMesh::new(&obj.positions, &obj.triangles)
         .map_err(|e| Failure { message: format!("{}: {e}", args.input.display()), usage: false })?;
-    let uv = run_method(&mesh, args)?;
+    let cut_mode = args.cut.unwrap_or(if mesh.require_disk_with_holes().is_ok() { CutMode::None } else { CutMode::Auto });
+    let cut = match cut_mode {
+        CutMode::None => None,
+        CutMode::Auto => {
+            if !args.pins.is_empty() || args.boundary.as_deref().is_some_and(|b| b != "circle" && b != "square") {
+                return Err(usage("--pin and a boundary file name vertices of the input; they cannot be combined with a cut"));
+            }
+            Some(cut_to_disk(&mesh, &EdgeCost::default())?)
+        }
+    };
+    let work = cut.as_ref().map_or(&mesh, |c| &c.mesh);
+    let uv = run_method(work, args)?;
     let seconds = start.elapsed().as_secs_f64();
-    write_obj_with_uv(&args.output, &obj.positions, &obj.triangles, &uv)?;
-    if let Some(svg) = &args.svg {
-        write_uv_svg(svg, &uv, mesh.triangles())?;
+    let uv_triangles: Vec<[u32; 3]> = work.triangles().to_vec();
+    match &cut {
+        None => write_obj_with_uv(&args.output, &obj.positions, &obj.triangles, &uv)?,
+        Some(_) => {
+            let flat: Vec<u32> = uv_triangles.iter().flatten().copied().collect();
+            write_obj_with_corner_uv(&args.output, &obj.positions, &obj.triangles, &uv, &flat)?
+        }
     }
-    let metrics = distortion(mesh.points(), mesh.triangles(), &uv, mesh.triangles())?;
+    if let Some(svg) = &args.svg {
+        write_uv_svg(svg, &uv, &uv_triangles)?;
+    }
+    let metrics = distortion(mesh.points(), mesh.triangles(), &uv, &uv_triangles)?;
     if args.json {
         let mut object = serde_json::json!({
             "method": method_label(args.method),
@@ -227,6 +306,18 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
             "vertices": mesh.vertex_count(),
             "output": args.output.display().to_string(),
         });
+        if let Some(c) = &cut {
+            let (seam, total) = (c.seam_length(&mesh), total_edge_length(&mesh));
+            merge(
+                &mut object,
+                serde_json::json!({
+                    "cut_edges": c.edges.len(),
+                    "seam_length": seam,
+                    "seam_ratio": seam / total,
+                    "uv_vertices": c.original.len(),
+                }),
+            );
+        }
         merge(&mut object, metrics.to_json());
         println!("{object}");
     } else {
@@ -238,9 +329,62 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
             seconds,
             args.output.display()
         );
+        if let Some(c) = &cut {
+            let (seam, total) = (c.seam_length(&mesh), total_edge_length(&mesh));
+            println!("  cut edges               {} (seam {:.4} of total edge length)", c.edges.len(), seam / total);
+        }
         print_metrics_text(&metrics);
     }
     Ok(())
+}
+
+fn sphere(args: &SphereArgs) -> Result<(), Failure> {
+    let (obj, mesh) = load_mesh(&args.input)?;
+    let method = match args.method {
+        SphereMethodName::TutteGnomonic => SphereMethod::TutteGnomonic,
+        SphereMethodName::GaussSeidel => SphereMethod::GaussSeidel,
+        SphereMethodName::Stereographic => SphereMethod::Stereographic,
+    };
+    let start = Instant::now();
+    let map = spherical_map(&mesh, &SphereOptions { method, sweeps: args.sweeps })?;
+    let seconds = start.elapsed().as_secs_f64();
+    write_sphere_obj(&args.output, &map.positions, &obj.triangles)?;
+    let name = SphereMethodName::value_variants()
+        .iter()
+        .find(|m| **m == args.method)
+        .and_then(|m| m.to_possible_value())
+        .map_or("?".to_string(), |v| v.get_name().to_string());
+    if args.json {
+        println!(
+            "{}",
+            serde_json::json!({"method": name, "seconds": seconds, "vertices": mesh.vertex_count(), "triangles": mesh.triangle_count(), "flipped": map.flipped, "output": args.output.display().to_string()})
+        );
+    } else {
+        println!(
+            "{name}: {} vertices, {} triangles, {:.3} s, {} flipped -> {}",
+            mesh.vertex_count(),
+            mesh.triangle_count(),
+            seconds,
+            map.flipped,
+            args.output.display()
+        );
+    }
+    Ok(())
+}
+
+/// Writes `v` lines (NaN positions of unreferenced vertices as `v 0 0 0`) and `f` lines.
+fn write_sphere_obj(path: &Path, positions: &[[f64; 3]], triangles: &[u32]) -> Result<(), Failure> {
+    use std::io::Write;
+    let fail = |e: std::io::Error| Failure { message: format!("cannot write {}: {e}", path.display()), usage: false };
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(fail)?);
+    for p in positions {
+        let p = if p.iter().all(|x| x.is_finite()) { *p } else { [0.0; 3] };
+        writeln!(out, "v {} {} {}", p[0], p[1], p[2]).map_err(fail)?;
+    }
+    for t in triangles.chunks_exact(3) {
+        writeln!(out, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1).map_err(fail)?;
+    }
+    out.flush().map_err(fail)
 }
 
 /// Rejects options that do not apply to the chosen method, so nothing is silently ignored.

@@ -13,6 +13,7 @@ pub mod mesh;
 pub mod methods;
 pub mod metrics;
 pub mod nonlinear;
+pub mod closed;
 
 use crate::error::{Error, Result, UvfStatus};
 use crate::TriMesh;

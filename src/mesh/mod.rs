@@ -7,6 +7,7 @@
 //! no connectivity, and methods return NaN for their UV.
 
 pub mod connectivity;
+pub mod cut;
 pub mod fill;
 pub mod topology;
 pub mod validate;

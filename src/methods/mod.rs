@@ -9,3 +9,4 @@ pub mod constraints;
 pub mod fixed_system;
 pub mod intrinsic;
 pub mod abf;
+pub mod sphere;

@@ -9,6 +9,9 @@ UVF_STATIC_ASSERT(sizeof(UvfMeshInfo) == 7 * sizeof(size_t) + 2 * sizeof(int64_t
 UVF_STATIC_ASSERT(sizeof(UvfMetrics) == 4 * sizeof(size_t) + 8 * sizeof(double), metrics_size);
 UVF_STATIC_ASSERT(offsetof(UvfFixedBoundaryOptions, struct_size) == 0, fixed_size_first);
 UVF_STATIC_ASSERT(offsetof(UvfNaturalConformalOptions, struct_size) == 0, conformal_size_first);
+UVF_STATIC_ASSERT(offsetof(UvfCutOptions, struct_size) == 0, cut_size_first);
+UVF_STATIC_ASSERT(offsetof(UvfSphereOptions, struct_size) == 0, sphere_size_first);
+UVF_STATIC_ASSERT(sizeof(UvfCutInfo) == 3 * sizeof(size_t) + 2 * sizeof(double), cut_info_size);
 UVF_STATIC_ASSERT(UVF_OK == 0, ok_is_zero);
 
 int uvf_header_check_c(void);

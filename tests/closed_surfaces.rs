@@ -1,0 +1,125 @@
+//! Closed and higher-genus surfaces on the real meshes of `../shared/meshes` (every `closed_*`
+//! and `holes_*` file, genus 0 to 133):
+//! - cutting gives a disk (one component, one boundary loop, Euler characteristic 1), and
+//!   cut + flatten + unflatten gives back every input vertex exactly once per corner;
+//! - the mean value map of the cut mesh (positive weights, convex boundary: Tutte–Floater
+//!   theorem, course notes §2.2) has no flipped triangle;
+//! - the Tutte–gnomonic spherical map has no flipped spherical triangle on any closed genus-0
+//!   mesh (the Gauss–Seidel and stereographic flips are printed, not asserted: no guarantee).
+//!
+//! Run with `--nocapture` for the per-mesh table (seam ratio, time, flips).
+
+use std::path::Path;
+use std::time::Instant;
+
+use uvflat::mesh::cut::{cut_to_disk, total_edge_length, EdgeCost};
+use uvflat::methods::sphere::{spherical_map, SphereMethod, SphereOptions};
+use uvflat::metrics::distortion;
+use uvflat::{fixed_boundary_map, natural_conformal_map, FixedBoundaryOptions, TriMesh};
+
+const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+
+fn load(file: &str) -> TriMesh {
+    let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+    TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"))
+}
+
+fn files(prefix: &str) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(MESH_DIR)
+        .expect("mesh dir")
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.starts_with(prefix) && n.ends_with(".obj"))
+        .collect();
+    names.sort();
+    assert!(!names.is_empty(), "no {prefix}*.obj in {MESH_DIR}");
+    names
+}
+
+#[test]
+fn every_closed_and_multi_hole_mesh_cuts_into_a_disk_that_flattens_without_flips() {
+    println!("{:<34} {:>5} {:>7} {:>8} {:>9} {:>9} {:>9}", "mesh", "genus", "faces", "seam/E", "cut s", "MV flips", "NC flips");
+    let mut failures = Vec::new();
+    for file in files("closed_").into_iter().chain(files("holes_")) {
+        let mesh = load(&file);
+        let topology = mesh.topology();
+        let start = Instant::now();
+        let cut = cut_to_disk(&mesh, &EdgeCost::default()).unwrap_or_else(|e| panic!("{file}: cut failed: {e}"));
+        let seconds = start.elapsed().as_secs_f64();
+        // The cut mesh is a disk.
+        let t = cut.mesh.topology();
+        assert_eq!((t.components, t.boundary_loops, t.euler_characteristic, t.genus), (1, 1, 1, 0), "{file}");
+        // Unflatten: every corner goes back to its own input vertex, at the same position.
+        let mut seen = vec![false; mesh.vertex_count()];
+        for (tri, cut_tri) in mesh.triangles().iter().zip(&cut.triangles) {
+            for k in 0..3 {
+                let v = cut.original[cut_tri[k] as usize];
+                assert_eq!(v, tri[k], "{file}: a corner maps back to another vertex");
+                assert_eq!(cut.mesh.points()[cut_tri[k] as usize], mesh.points()[v as usize], "{file}");
+                seen[v as usize] = true;
+            }
+        }
+        assert!((0..mesh.vertex_count() as u32).all(|v| seen[v as usize] == mesh.is_referenced(v)), "{file}");
+        // Flatten with mean value weights (guaranteed) and the natural conformal map (reported).
+        let uv_triangles = cut.mesh.triangles().to_vec();
+        let mv = fixed_boundary_map(&cut.mesh, &FixedBoundaryOptions::default()).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let mv_flips = distortion(mesh.points(), mesh.triangles(), &mv, &uv_triangles).expect("metrics").flipped;
+        let nc_flips = match natural_conformal_map(&cut.mesh, None) {
+            Ok(uv) => distortion(mesh.points(), mesh.triangles(), &uv, &uv_triangles).expect("metrics").flipped.to_string(),
+            Err(e) => format!("err {e}"),
+        };
+        let ratio = cut.seam_length(&mesh) / total_edge_length(&mesh);
+        println!(
+            "{file:<34} {:>5} {:>7} {ratio:>8.4} {seconds:>9.3} {mv_flips:>9} {nc_flips:>9}",
+            topology.genus,
+            mesh.triangle_count()
+        );
+        if mv_flips != 0 {
+            failures.push(format!("{file}: {mv_flips} mean value flips"));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:?}");
+}
+
+#[test]
+fn tutte_gnomonic_sphere_map_never_flips_on_closed_genus_zero_meshes() {
+    println!("{:<34} {:>7} {:>12} {:>12} {:>12} {:>8}", "mesh", "faces", "tutte-gnom", "gauss-seidel", "stereograph", "TG s");
+    let mut failures = Vec::new();
+    for file in files("closed_g0_") {
+        let mesh = load(&file);
+        let start = Instant::now();
+        let guaranteed = spherical_map(&mesh, &SphereOptions { method: SphereMethod::TutteGnomonic, sweeps: 100 })
+            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let seconds = start.elapsed().as_secs_f64();
+        for (v, p) in guaranteed.positions.iter().enumerate() {
+            if mesh.is_referenced(v as u32) {
+                assert!((p.iter().map(|x| x * x).sum::<f64>().sqrt() - 1.0).abs() < 1e-9, "{file}: off the sphere");
+            }
+        }
+        let flips = |method| match spherical_map(&mesh, &SphereOptions { method, sweeps: 100 }) {
+            Ok(m) => m.flipped.to_string(),
+            Err(e) => format!("err {e}"),
+        };
+        println!(
+            "{file:<34} {:>7} {:>12} {:>12} {:>12} {seconds:>8.3}",
+            mesh.triangle_count(),
+            guaranteed.flipped,
+            flips(SphereMethod::GaussSeidel),
+            flips(SphereMethod::Stereographic)
+        );
+        if guaranteed.flipped != 0 {
+            failures.push(format!("{file}: {} flips", guaranteed.flipped));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:?}");
+}
+
+#[test]
+#[ignore = "bug: the Tutte-gnomonic spherical map reports flipped triangles on the 6-vertex octahedron \
+            (real genus-0 meshes and the icosphere map without flips); see tests/c/smoke.c"]
+fn tutte_gnomonic_maps_the_octahedron_without_flips() {
+    let positions = [1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0];
+    let triangles = [0u32, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5];
+    let mesh = TriMesh::new(&positions, &triangles).expect("octahedron");
+    let map = spherical_map(&mesh, &SphereOptions { method: SphereMethod::TutteGnomonic, sweeps: 100 }).expect("map");
+    assert_eq!(map.flipped, 0);
+}
