@@ -13,8 +13,9 @@ Steps (all objects of a multi-object Edit Mode together):
    their UVs, as do islands the library rejects (e.g. zero-area faces; the warning quotes the
    library's message);
 4. pins: pinned loops never change. With natural conformal and two or more pinned vertices on an
-   island, the two pins farthest apart in UV are the library's two constraints (it supports
-   exactly two); more pins are kept where they are but do not constrain the solve (reported).
+   island, every pin is a point constraint of the solve (``uvf_pinned_natural_conformal_map``);
+   if the library finds them conflicting, the two pins farthest apart in UV constrain it and
+   the others are kept where they are but do not constrain the solve (reported).
    Fixed-boundary methods (and natural conformal with one pin) solve without constraints and
    then move the island by the similarity (rotation, uniform scale, translation) that best
    matches its pins. Islands with pins are not moved by the layout;
@@ -42,7 +43,7 @@ from ._binding import binding
 LAST_RUN: Dict[str, Any] = {}
 
 METHODS = [
-    ("NATURAL_CONFORMAL", "Natural Conformal", "Free-boundary natural conformal map (= LSCM, Desbrun et al. 2002); honours 2 pins"),
+    ("NATURAL_CONFORMAL", "Natural Conformal", "Free-boundary natural conformal map (= LSCM, Desbrun et al. 2002); honours every pin"),
     ("MEAN_VALUE", "Mean Value", "Floater's mean value coordinates, boundary fixed on a circle or square; never flips"),
     ("INTRINSIC", "Intrinsic (λ, μ)", "λ·discrete conformal + μ·discrete authalic weights, fixed boundary (Desbrun et al. 2002)"),
     ("TUTTE", "Tutte", "Uniform weights, fixed convex boundary; never flips"),
@@ -328,9 +329,15 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
             if len(pins) >= 2:
                 i, j = isl.farthest_pair(job.pin_uv)
                 if np.linalg.norm(job.pin_uv[i] - job.pin_uv[j]) > 0:
-                    pair = ((int(pins[i]), tuple(job.pin_uv[i])), (int(pins[j]), tuple(job.pin_uv[j])))
-                    uv = uvflat.natural_conformal_map(island.positions, island.triangles, pins=pair)
-                    return uv, len(pins) - 2
+                    # Every pin is a constraint (Lagrange point constraints, Desbrun et al. 2002
+                    # §4.1); pins the library finds conflicting fall back to the farthest pair.
+                    try:
+                        all_pins = {int(v): tuple(job.pin_uv[k]) for k, v in enumerate(pins)}
+                        return uvflat.pinned_natural_conformal_map(island.positions, island.triangles, all_pins), 0
+                    except uvflat.InvalidArgument:
+                        pair = ((int(pins[i]), tuple(job.pin_uv[i])), (int(pins[j]), tuple(job.pin_uv[j])))
+                        uv = uvflat.natural_conformal_map(island.positions, island.triangles, pins=pair)
+                        return uv, len(pins) - 2
             uv = uvflat.natural_conformal_map(island.positions, island.triangles)
         else:
             kwargs: Dict[str, Any] = {"weights": _FIXED_WEIGHTS[self.method], "boundary": self.boundary.lower()}

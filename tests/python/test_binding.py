@@ -93,7 +93,22 @@ C_TYPES = {
     "const struct UvfFixedBoundaryOptions *": ctypes.POINTER(_library.UvfFixedBoundaryOptions),
     "struct UvfNaturalConformalOptions *": ctypes.POINTER(_library.UvfNaturalConformalOptions),
     "const struct UvfNaturalConformalOptions *": ctypes.POINTER(_library.UvfNaturalConformalOptions),
+    "double": ctypes.c_double,
+    "uint32_t": ctypes.c_uint32,
+    "size_t *": ctypes.POINTER(ctypes.c_size_t),
+    "struct UvfBoundaryEditor **": ctypes.POINTER(ctypes.POINTER(_library.UvfBoundaryEditor)),
+    "struct UvfBoundaryEditor *": ctypes.POINTER(_library.UvfBoundaryEditor),
+    "const struct UvfBoundaryEditor *": ctypes.POINTER(_library.UvfBoundaryEditor),
+    "struct UvfCut **": ctypes.POINTER(ctypes.POINTER(_library.UvfCut)),
+    "struct UvfCut *": ctypes.POINTER(_library.UvfCut),
+    "const struct UvfCut *": ctypes.POINTER(_library.UvfCut),
+    "const struct UvfPointConstraint *": ctypes.POINTER(_library.UvfPointConstraint),
+    "struct UvfCutInfo *": ctypes.POINTER(_library.UvfCutInfo),
+    "struct UvfAbfReport *": ctypes.POINTER(_library.UvfAbfReport),
+    "struct UvfNonlinearReport *": ctypes.POINTER(_library.UvfNonlinearReport),
 }
+for _options in ("UvfAbfOptions", "UvfIntrinsicToolOptions", "UvfNonlinearOptions", "UvfCutOptions", "UvfSphereOptions"):
+    C_TYPES[f"struct {_options} *"] = C_TYPES[f"const struct {_options} *"] = ctypes.POINTER(getattr(_library, _options))
 C_RETURNS = {
     "enum UvfStatus": ctypes.c_int,
     "const char *": ctypes.c_char_p,
@@ -104,7 +119,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 11, sorted(functions)
+    assert len(functions) == 37, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -131,6 +146,15 @@ STRUCTS = {
     "UvfFixedBoundaryOptions": _library.UvfFixedBoundaryOptions,
     "UvfNaturalConformalOptions": _library.UvfNaturalConformalOptions,
     "UvfMetrics": _library.UvfMetrics,
+    "UvfAbfOptions": _library.UvfAbfOptions,
+    "UvfAbfReport": _library.UvfAbfReport,
+    "UvfIntrinsicToolOptions": _library.UvfIntrinsicToolOptions,
+    "UvfPointConstraint": _library.UvfPointConstraint,
+    "UvfNonlinearOptions": _library.UvfNonlinearOptions,
+    "UvfNonlinearReport": _library.UvfNonlinearReport,
+    "UvfCutOptions": _library.UvfCutOptions,
+    "UvfCutInfo": _library.UvfCutInfo,
+    "UvfSphereOptions": _library.UvfSphereOptions,
 }
 
 
@@ -774,3 +798,64 @@ def test_the_gil_is_released_during_a_call():
     assert len(inside) >= 5, (end - start, len(inside))
     gaps = np.diff([start, *inside, end])
     assert gaps.max() < 0.5 * (end - start), (end - start, gaps.max())
+
+
+# --- more pins, non-linear methods, ABF, closed surfaces ---------------------------------------
+
+
+def signed_uv_areas(uv: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    a, b, c = uv[triangles[:, 0]], uv[triangles[:, 1]], uv[triangles[:, 2]]
+    return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+
+def test_pinned_natural_conformal_map_places_every_pin_and_matches_the_two_pin_map():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    loops = uvflat.boundary_loops(p, t)
+    a, b, c = (int(loops[0][k]) for k in (0, len(loops[0]) // 3, 2 * len(loops[0]) // 3))
+    two = uvflat.natural_conformal_map(p, t, pins=((a, (0.0, 0.0)), (b, (1.0, 0.0))))
+    same = uvflat.pinned_natural_conformal_map(p, t, {a: (0.0, 0.0), b: (1.0, 0.0)})
+    assert np.nanmax(np.abs(same - two)) < 1e-9
+    three = uvflat.pinned_natural_conformal_map(p, t, {a: (0.0, 0.0), b: (1.0, 0.0), c: (0.3, 0.9)})
+    for v, uv in ((a, (0.0, 0.0)), (b, (1.0, 0.0)), (c, (0.3, 0.9))):
+        assert np.allclose(three[v], uv, atol=1e-9)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.pinned_natural_conformal_map(p, t, {a: (0.0, 0.0)})
+
+
+@pytest.mark.parametrize("method", ["slim", "arap", "mips"])
+def test_nonlinear_map_never_flips_and_lowers_its_energy(method):
+    p, t = load_mesh("disk_cat_head.obj")
+    uv, report = uvflat.nonlinear_map(p, t, method, iterations=10)
+    assert (signed_uv_areas(uv, t.astype(np.int64)) > 0).all()
+    assert report.iterations > 0 and report.final_energy < report.initial_energy
+    with pytest.raises(uvflat.InvalidArgument, match="unknown method 'bogus'"):
+        uvflat.nonlinear_map(p, t, "bogus")
+
+
+def test_abf_plus_plus_converges_without_flips_and_cancels():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    uv, report = uvflat.abf(p, t)
+    assert report.converged and report.gradient_norm <= 1e-6
+    assert uvflat.metrics(p, t, uv).flipped == 0
+    with pytest.raises(uvflat.Cancelled):
+        uvflat.abf(p, t, progress=lambda fraction: False)
+
+
+def test_cut_to_disk_makes_a_torus_a_disk_that_maps_back_to_its_vertices():
+    p, t = load_mesh("closed_g1_bob.obj")
+    cut = uvflat.cut_to_disk(p, t)
+    info = uvflat.mesh_info(cut.positions, cut.triangles)
+    assert (info.boundary_loops, info.euler_characteristic) == (1, 1)
+    assert (cut.original_vertices[cut.triangles] == t).all()
+    assert 0 < cut.seam_length < cut.total_edge_length
+    uv = uvflat.mean_value(cut.positions, cut.triangles)
+    assert uvflat.metrics(cut.positions, cut.triangles, uv).flipped == 0
+
+
+def test_spherical_map_of_a_closed_genus_zero_mesh_is_on_the_unit_sphere_without_flips():
+    p, t = load_mesh("closed_g0_decimated_knight.obj")
+    sphere, flipped = uvflat.spherical_map(p, t)
+    assert flipped == 0
+    assert np.allclose(np.linalg.norm(sphere, axis=1), 1.0, atol=1e-12)
+    with pytest.raises(uvflat.UnsupportedTopology):
+        uvflat.spherical_map(*load_mesh("closed_g1_bob.obj"))

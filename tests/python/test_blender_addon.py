@@ -409,8 +409,7 @@ def test_pinned_uvs_stay_and_constrain_the_island():
     sel_loops = poly_loops(data0, np.flatnonzero(mask))
     lv = data0["loop_vert"]
     # Three vertices inside the selection (4 loops each); one loop of each is pinned, as when
-    # a user pins a UV in the UV editor. The natural conformal map takes the two pins farthest
-    # apart in UV (vertices a and b); the third (c) stays where it is, unenforced.
+    # a user pins a UV in the UV editor. All three constrain the natural conformal map.
     vertex = lambda x, y: round((y + 1) * n / 2) * (n + 1) + round((x + 1) * n / 2)  # noqa: E731
     a, b, c = vertex(-0.6, -0.6), vertex(0.2, 0.6), vertex(-0.2, 0.0)
     target = {a: (0.1, 0.1), b: (0.9, 0.8), c: (0.5, 0.3)}
@@ -430,20 +429,16 @@ def test_pinned_uvs_stay_and_constrain_the_island():
     unselected = poly_loops(data, np.flatnonzero(~mask))
     np.testing.assert_array_equal(data["uv"][unselected], expect[unselected])
     assert summary["islands"] == 1
-    assert summary["unenforced_pins"] == 1
-    assert any("not enforced" in w for w in summary["warnings"])
-    # The other loops of the enforced pins' vertices sit on the pins: the pins constrained the
-    # solve, and the island was not moved afterwards by the layout.
-    for v in (a, b):
+    assert summary["unenforced_pins"] == 0
+    assert not any("not enforced" in w for w in summary["warnings"])
+    # The other loops of every pinned vertex sit on its pin: the pins constrained the solve, and
+    # the island was not moved afterwards by the layout.
+    for v in (a, b, c):
         loops = sel_loops[lv[sel_loops] == v]
         np.testing.assert_allclose(data["uv"][loops], np.tile(target[v], (4, 1)), atol=1e-6)
-    loops_c = sel_loops[lv[sel_loops] == c]
-    assert np.abs(data["uv"][loops_c[1:]] - target[c]).max() > 1e-3  # not enforced
     free = np.setdiff1d(sel_loops, pinned)
     assert (np.abs(data["uv"][free] - before[free]).max(axis=1) > 0).all()
-    # An unenforced pin keeps its UV while its neighbours move, so only triangles without a
-    # pinned corner are checked.
-    assert_no_flips(data, uv_islands(data, np.flatnonzero(mask)), exclude_loops=pinned)
+    assert_no_flips(data, uv_islands(data, np.flatnonzero(mask)))
 
 
 def test_one_pin_keeps_its_island_in_place():

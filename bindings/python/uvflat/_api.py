@@ -530,3 +530,218 @@ def metrics(
         )
     )
     return _from_struct(Metrics, out)
+
+
+# --- more pins, non-linear methods, ABF, closed surfaces -----------------------------------
+
+
+def pinned_natural_conformal_map(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    pins: Mapping[int, Sequence[float]],
+    *,
+    progress: Optional[ProgressCallback] = None,
+) -> np.ndarray:
+    """Natural conformal map with two or more pinned vertices
+    (``uvf_pinned_natural_conformal_map``; Desbrun et al. 2002 §4.1–4.2, pins as Lagrange
+    point constraints): every pin lands exactly where given, the rest minimises the conformal
+    energy.
+
+    Args:
+        positions: ``(n, 3)`` vertex positions.
+        triangles: ``(m, 3)`` vertex indices, counter-clockwise.
+        pins: ``{vertex: (u, v)}`` with at least two entries.
+        progress: as for :func:`natural_conformal_map`.
+
+    Returns:
+        ``(n, 2)`` float64 UVs, NaN for unreferenced vertices.
+
+    Raises:
+        InvalidArgument (fewer than two pins, bad vertices, conflicting pins), InvalidMesh,
+        UnsupportedTopology, NumericalFailure, Cancelled.
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    try:
+        items = sorted((int(v), (float(uv[0]), float(uv[1]))) for v, uv in dict(pins).items())
+    except (TypeError, ValueError, IndexError):
+        raise InvalidArgument(f"pins must map vertex -> (u, v), not {pins!r}") from None
+    vertices = _as_indices(np.array([v for v, _ in items], dtype=np.int64), "pin vertices", InvalidArgument, None,
+                           "pin {row} is vertex {value}, which {reason}")
+    uvs = np.ascontiguousarray([uv for _, uv in items], dtype=np.float64).reshape(-1, 2)
+    options = L.UvfIntrinsicToolOptions()
+    L.library().uvf_intrinsic_tool_options_default(byref(options))
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    uv = np.empty((len(p), 2), dtype=np.float64)
+    lib = L.library()
+    bridge.run(
+        lambda: lib.uvf_pinned_natural_conformal_map(
+            _f64p(p), len(p), _u32p(t), len(t), _u32p(vertices), _f64p(uvs), len(vertices), byref(options), _f64p(uv)
+        )
+    )
+    return uv
+
+
+_NONLINEAR = {
+    "slim": L.UVF_NONLINEAR_SLIM,
+    "arap": L.UVF_NONLINEAR_ARAP,
+    "mips": L.UVF_NONLINEAR_MIPS,
+    "stretch": L.UVF_NONLINEAR_STRETCH,
+    "green_lagrange": L.UVF_NONLINEAR_GREEN_LAGRANGE,
+    "degener": L.UVF_NONLINEAR_DEGENER,
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class NonlinearReport:
+    """What ``uvf_nonlinear_map`` reports about its run."""
+
+    iterations: int
+    converged: int
+    initial_energy: float
+    final_energy: float
+
+
+def nonlinear_map(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    method: Union[str, int] = "slim",
+    *,
+    iterations: Optional[int] = None,
+    tolerance: Optional[float] = None,
+    theta: Optional[float] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> Tuple[np.ndarray, NonlinearReport]:
+    """Free-boundary distortion minimisation that never flips a triangle
+    (``uvf_nonlinear_map``): ``slim`` (symmetric Dirichlet, Rabinovich et al. 2017), ``arap``
+    (Liu et al. 2008), ``mips`` (Hormann & Greiner 2000), ``stretch`` (Sander et al. 2001),
+    ``green_lagrange`` (Maillot et al. 1993), ``degener`` (Degener et al. 2003, ``theta``).
+
+    Returns:
+        ``(uv, report)``: ``(n, 2)`` UVs and a :class:`NonlinearReport`.
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    options = L.UvfNonlinearOptions()
+    L.library().uvf_nonlinear_options_default(byref(options))
+    options.method = _code(method, _NONLINEAR, "method")
+    if iterations is not None:
+        options.iterations = int(iterations)
+    if tolerance is not None:
+        options.tolerance = float(tolerance)
+    if theta is not None:
+        options.theta = float(theta)
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    uv = np.empty((len(p), 2), dtype=np.float64)
+    report = L.UvfNonlinearReport()
+    lib = L.library()
+    bridge.run(lambda: lib.uvf_nonlinear_map(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(uv), byref(report)))
+    return uv, _from_struct(NonlinearReport, report)
+
+
+@dataclasses.dataclass(frozen=True)
+class AbfReport:
+    """What ``uvf_abf`` reports about its run."""
+
+    iterations: int
+    converged: int
+    gradient_norm: float
+    invalid_angles: int
+
+
+def abf(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    *,
+    variant: str = "abf++",
+    max_iterations: Optional[int] = None,
+    tolerance: Optional[float] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> Tuple[np.ndarray, AbfReport]:
+    """Angle based flattening (``uvf_abf``): ``"abf++"`` (Sheffer et al. 2005, default) or
+    ``"abf"`` (Sheffer & de Sturler 2001), then the LSCM-style reconstruction of UVs.
+
+    Returns:
+        ``(uv, report)``: ``(n, 2)`` UVs and an :class:`AbfReport`.
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    options = L.UvfAbfOptions()
+    L.library().uvf_abf_options_default(byref(options))
+    options.variant = _code(variant, {"abf": L.UVF_ABF_VARIANT_ABF, "abf++": L.UVF_ABF_VARIANT_ABF_PLUS_PLUS}, "variant")
+    if max_iterations is not None:
+        options.max_iterations = int(max_iterations)
+    if tolerance is not None:
+        options.tolerance = float(tolerance)
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    uv = np.empty((len(p), 2), dtype=np.float64)
+    report = L.UvfAbfReport()
+    lib = L.library()
+    bridge.run(lambda: lib.uvf_abf(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(uv), byref(report)))
+    return uv, _from_struct(AbfReport, report)
+
+
+def spherical_map(positions: ArrayLike, triangles: ArrayLike, method: str = "tutte_gnomonic") -> Tuple[np.ndarray, int]:
+    """Spherical parameterization of a closed genus-0 mesh (``uvf_spherical_map``; course notes
+    §6.1): ``tutte_gnomonic`` (flip-free construction, default), ``gauss_seidel`` or
+    ``stereographic`` (Haker et al. 2000).
+
+    Returns:
+        ``(sphere, flipped)``: ``(n, 3)`` unit vectors and the count of flipped spherical
+        triangles.
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    options = L.UvfSphereOptions()
+    L.library().uvf_sphere_options_default(byref(options))
+    options.method = _code(
+        method,
+        {
+            "tutte_gnomonic": L.UVF_SPHERE_TUTTE_GNOMONIC,
+            "gauss_seidel": L.UVF_SPHERE_GAUSS_SEIDEL,
+            "stereographic": L.UVF_SPHERE_STEREOGRAPHIC,
+        },
+        "method",
+    )
+    out = np.empty((len(p), 3), dtype=np.float64)
+    flipped = ctypes.c_size_t(0)
+    _check(L.library().uvf_spherical_map(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(out), byref(flipped)))
+    return out, int(flipped.value)
+
+
+@dataclasses.dataclass(frozen=True)
+class Cut:
+    """A mesh cut into a topological disk (``uvf_cut_to_disk``)."""
+
+    positions: np.ndarray  #: ``(k, 3)`` positions of the cut mesh's vertices
+    triangles: np.ndarray  #: ``(m, 3)`` triangles of the cut mesh (same order as the input)
+    original_vertices: np.ndarray  #: ``(k,)`` input vertex of each cut-mesh vertex
+    edges: np.ndarray  #: ``(e, 2)`` input vertex pairs along the cut
+    seam_length: float
+    total_edge_length: float
+
+
+def cut_to_disk(positions: ArrayLike, triangles: ArrayLike, cost: str = "curvature") -> Cut:
+    """Cuts a manifold mesh of any genus into a topological disk (``uvf_cut_to_disk``:
+    tree-cotree cut graph, Erickson & Har-Peled 2002, steered by a ``curvature`` or ``length``
+    edge cost); any disk method then runs on ``Cut.positions`` / ``Cut.triangles``."""
+    p, t = _mesh_arrays(positions, triangles)
+    options = L.UvfCutOptions()
+    lib = L.library()
+    lib.uvf_cut_options_default(byref(options))
+    options.cost = _code(cost, {"curvature": L.UVF_CUT_COST_CURVATURE, "length": L.UVF_CUT_COST_LENGTH}, "cost")
+    handle = POINTER(L.UvfCut)()
+    _check(lib.uvf_cut_to_disk(_f64p(p), len(p), _u32p(t), len(t), byref(options), byref(handle)))
+    try:
+        info = L.UvfCutInfo()
+        _check(lib.uvf_cut_info(handle, byref(info)))
+        cut_positions = np.empty((info.vertex_count, 3), dtype=np.float64)
+        cut_triangles = np.empty((info.triangle_count, 3), dtype=np.uint32)
+        original = np.empty(info.vertex_count, dtype=np.uint32)
+        edges = np.empty((info.edge_count, 2), dtype=np.uint32)
+        _check(lib.uvf_cut_copy_positions(handle, _f64p(cut_positions), cut_positions.size))
+        _check(lib.uvf_cut_copy_triangles(handle, _u32p(cut_triangles), cut_triangles.size))
+        _check(lib.uvf_cut_copy_original_vertices(handle, _u32p(original), original.size))
+        _check(lib.uvf_cut_copy_edges(handle, _u32p(edges), edges.size))
+    finally:
+        lib.uvf_cut_free(handle)
+    return Cut(cut_positions, cut_triangles, original, edges, info.seam_length, info.total_edge_length)

@@ -36,6 +36,7 @@ from ctypes import (
     c_int64,
     c_size_t,
     c_uint32,
+    c_uint64,
     c_void_p,
 )
 from typing import Optional, Union
@@ -64,6 +65,24 @@ UVF_BOUNDARY_GIVEN = 2
 UVF_DISTRIBUTION_UNIFORM = 0
 UVF_DISTRIBUTION_CHORD = 1
 UVF_DISTRIBUTION_CENTRIPETAL = 2
+
+UVF_ABF_VARIANT_ABF = 0
+UVF_ABF_VARIANT_ABF_PLUS_PLUS = 1
+
+UVF_NONLINEAR_SLIM = 0
+UVF_NONLINEAR_ARAP = 1
+UVF_NONLINEAR_MIPS = 2
+UVF_NONLINEAR_STRETCH = 3
+UVF_NONLINEAR_GREEN_LAGRANGE = 4
+UVF_NONLINEAR_DEGENER = 5
+
+UVF_CUT_COST_CURVATURE = 0
+UVF_CUT_COST_LENGTH = 1
+UVF_CUT_COST_GIVEN = 2
+
+UVF_SPHERE_TUTTE_GNOMONIC = 0
+UVF_SPHERE_GAUSS_SEIDEL = 1
+UVF_SPHERE_STEREOGRAPHIC = 2
 
 # --- types (uvflat.h) -----------------------------------------------------------------------
 
@@ -140,6 +159,118 @@ class UvfMetrics(Structure):
     ]
 
 
+class UvfAbfOptions(Structure):
+    """``struct UvfAbfOptions``; fill with ``uvf_abf_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("variant", c_uint32),
+        ("max_iterations", c_uint32),
+        ("tolerance", c_double),
+        ("pin_count", c_uint32),
+        ("pin_vertices", c_uint32 * 2),
+        ("pin_uv", c_double * 4),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
+    ]
+
+
+class UvfAbfReport(Structure):
+    """``struct UvfAbfReport``: iterations and convergence of an ABF / ABF++ run."""
+
+    _fields_ = [
+        ("iterations", c_uint32),
+        ("converged", c_uint32),
+        ("gradient_norm", c_double),
+        ("invalid_angles", c_uint64),
+    ]
+
+
+class UvfIntrinsicToolOptions(Structure):
+    """``struct UvfIntrinsicToolOptions``; fill with ``uvf_intrinsic_tool_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
+    ]
+
+
+class UvfPointConstraint(Structure):
+    """``struct UvfPointConstraint``: a point (triangle, barycentric coordinates) and its UV."""
+
+    _fields_ = [
+        ("triangle", c_uint32),
+        ("barycentric", c_double * 3),
+        ("uv", c_double * 2),
+    ]
+
+
+class UvfNonlinearOptions(Structure):
+    """``struct UvfNonlinearOptions``; fill with ``uvf_nonlinear_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("method", c_uint32),
+        ("iterations", c_uint32),
+        ("tolerance", c_double),
+        ("theta", c_double),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
+    ]
+
+
+class UvfNonlinearReport(Structure):
+    """``struct UvfNonlinearReport``: iterations and energies of a non-linear run."""
+
+    _fields_ = [
+        ("iterations", c_uint32),
+        ("converged", c_uint32),
+        ("initial_energy", c_double),
+        ("final_energy", c_double),
+    ]
+
+
+class UvfCutOptions(Structure):
+    """``struct UvfCutOptions``; fill with ``uvf_cut_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("cost", c_uint32),
+        ("edge_cost", POINTER(c_double)),
+    ]
+
+
+class UvfCutInfo(Structure):
+    """``struct UvfCutInfo``: sizes of a cut's outputs and its seam length."""
+
+    _fields_ = [
+        ("vertex_count", c_size_t),
+        ("triangle_count", c_size_t),
+        ("edge_count", c_size_t),
+        ("seam_length", c_double),
+        ("total_edge_length", c_double),
+    ]
+
+
+class UvfSphereOptions(Structure):
+    """``struct UvfSphereOptions``; fill with ``uvf_sphere_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("method", c_uint32),
+        ("sweeps", c_uint32),
+    ]
+
+
+class UvfBoundaryEditor(Structure):
+    """Opaque ``struct UvfBoundaryEditor`` (only used through pointers)."""
+
+
+class UvfCut(Structure):
+    """Opaque ``struct UvfCut`` (only used through pointers)."""
+
+
 _f64p = POINTER(c_double)
 _u32p = POINTER(c_uint32)
 
@@ -167,6 +298,56 @@ PROTOTYPES = {
     "uvf_metrics": (
         UvfStatus,
         [_f64p, c_size_t, _u32p, c_size_t, _f64p, c_size_t, _u32p, POINTER(UvfMetrics)],
+    ),
+    "uvf_abf_options_default": (None, [POINTER(UvfAbfOptions)]),
+    "uvf_abf": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfAbfOptions), _f64p, POINTER(UvfAbfReport)],
+    ),
+    "uvf_intrinsic_tool_options_default": (None, [POINTER(UvfIntrinsicToolOptions)]),
+    "uvf_constrained_fixed_boundary_map": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfFixedBoundaryOptions), POINTER(UvfPointConstraint), c_size_t, _f64p],
+    ),
+    "uvf_constrained_natural_conformal_map": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfPointConstraint), c_size_t, POINTER(UvfIntrinsicToolOptions), _f64p],
+    ),
+    "uvf_pinned_natural_conformal_map": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, _u32p, _f64p, c_size_t, POINTER(UvfIntrinsicToolOptions), _f64p],
+    ),
+    "uvf_boundary_editor_new": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, c_double, c_double, POINTER(UvfIntrinsicToolOptions), POINTER(POINTER(UvfBoundaryEditor))],
+    ),
+    "uvf_boundary_editor_free": (None, [POINTER(UvfBoundaryEditor)]),
+    "uvf_boundary_editor_boundary": (UvfStatus, [POINTER(UvfBoundaryEditor), POINTER(c_size_t), _u32p]),
+    "uvf_boundary_editor_solve": (UvfStatus, [POINTER(UvfBoundaryEditor), _f64p, c_size_t, _f64p]),
+    "uvf_boundary_editor_basis": (UvfStatus, [POINTER(UvfBoundaryEditor), c_size_t, _f64p]),
+    "uvf_spectral_conformal_map": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, _f64p]),
+    "uvf_intrinsic_optimal_map": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, c_uint32, _f64p, _f64p]),
+    "uvf_boundary_optimized_map": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, c_uint32, _f64p]),
+    "uvf_nonlinear_options_default": (None, [POINTER(UvfNonlinearOptions)]),
+    "uvf_nonlinear_map": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfNonlinearOptions), _f64p, POINTER(UvfNonlinearReport)],
+    ),
+    "uvf_cut_options_default": (None, [POINTER(UvfCutOptions)]),
+    "uvf_cut_to_disk": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfCutOptions), POINTER(POINTER(UvfCut))],
+    ),
+    "uvf_cut_info": (UvfStatus, [POINTER(UvfCut), POINTER(UvfCutInfo)]),
+    "uvf_cut_copy_edges": (UvfStatus, [POINTER(UvfCut), _u32p, c_size_t]),
+    "uvf_cut_copy_triangles": (UvfStatus, [POINTER(UvfCut), _u32p, c_size_t]),
+    "uvf_cut_copy_original_vertices": (UvfStatus, [POINTER(UvfCut), _u32p, c_size_t]),
+    "uvf_cut_copy_positions": (UvfStatus, [POINTER(UvfCut), _f64p, c_size_t]),
+    "uvf_cut_free": (None, [POINTER(UvfCut)]),
+    "uvf_sphere_options_default": (None, [POINTER(UvfSphereOptions)]),
+    "uvf_spherical_map": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfSphereOptions), _f64p, POINTER(c_size_t)],
     ),
 }
 
