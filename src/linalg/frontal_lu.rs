@@ -16,7 +16,7 @@
 //! Storage per supernode: its block of L in faer's layout (`(w + m) × w`, column-major), then
 //! its block of Uᵀ in the same layout (unit diagonal in L, pivots on the diagonal of Uᵀ).
 
-use super::multifrontal::{run, Entries, PermutedLower};
+use super::multifrontal::{front_positions, run, Entries, PermutedLower};
 use crate::error::{Error, Result};
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_unit_lower_triangular_in_place, solve_upper_triangular_in_place};
@@ -72,18 +72,7 @@ pub(crate) fn extend_add_full<T: ComplexField + Copy>(
     let w = l - f;
     let m = ld - w;
     let mc = child_pattern.len();
-    let mut position = Vec::with_capacity(mc);
-    let mut k = 0;
-    for &i in child_pattern {
-        if i < l {
-            position.push(i - f);
-        } else {
-            while pattern[k] < i {
-                k += 1;
-            }
-            position.push(w + k);
-        }
-    }
+    let position = front_positions(f, l, pattern, child_pattern);
     for (c2, &j) in position.iter().enumerate() {
         let source = &child[c2 * mc..(c2 + 1) * mc];
         if j < w {

@@ -265,6 +265,24 @@ fn assemble_columns<T: ComplexField + Copy + Send + Sync>(block: &mut [T], ld: u
     }
 }
 
+/// Position in the front of supernode `f..l` (rows `f..l`, then `pattern`) of each row of a
+/// child's update matrix (both patterns are sorted).
+pub(crate) fn front_positions(f: usize, l: usize, pattern: &[usize], child_pattern: &[usize]) -> Vec<usize> {
+    let mut position = Vec::with_capacity(child_pattern.len());
+    let mut k = 0;
+    for &i in child_pattern {
+        if i < l {
+            position.push(i - f);
+        } else {
+            while pattern[k] < i {
+                k += 1;
+            }
+            position.push((l - f) + k);
+        }
+    }
+    position
+}
+
 /// Adds a child's update matrix (rows `child_pattern`) into the front of supernode `f..l`
 /// (rows `f..l` then `pattern`): columns that fall in `f..l` go to the factor block, the others
 /// to the front's own update matrix.
@@ -282,19 +300,7 @@ fn extend_add<T: ComplexField + Copy + Send + Sync>(
     let w = l - f;
     let m = ld - w;
     let mc = child_pattern.len();
-    // Position of each child row in the front (both patterns are sorted).
-    let mut position = Vec::with_capacity(mc);
-    let mut k = 0;
-    for &i in child_pattern {
-        if i < l {
-            position.push(i - f);
-        } else {
-            while pattern[k] < i {
-                k += 1;
-            }
-            position.push(w + k);
-        }
-    }
+    let position = front_positions(f, l, pattern, child_pattern);
     for (c2, &j) in position.iter().enumerate() {
         let source = &child[c2 * mc..(c2 + 1) * mc];
         if j < w {
