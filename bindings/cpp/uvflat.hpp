@@ -254,6 +254,108 @@ inline UvfMetrics metrics(const std::vector<double> &positions, const std::vecto
     return m;
 }
 
+/// A mesh cut into a topological disk (`uvf_cut_to_disk`: tree-cotree cut graph); owns the
+/// library's handle (move-only, freed by the destructor). Any disk method runs on
+/// `positions()` / `triangles()`; `original_vertices()` maps the cut mesh back.
+class Cut {
+  public:
+    Cut(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+        std::uint32_t cost = UVF_CUT_COST_CURVATURE) {
+        UvfCutOptions options;
+        uvf_cut_options_default(&options);
+        options.cost = cost;
+        detail::check(uvf_cut_to_disk(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
+                                      detail::count_of(triangles, "triangles"), &options, &handle_));
+    }
+    Cut(const Cut &) = delete;
+    Cut &operator=(const Cut &) = delete;
+    Cut(Cut &&other) noexcept : handle_(std::exchange(other.handle_, nullptr)) {}
+    Cut &operator=(Cut &&other) noexcept {
+        if (this != &other) {
+            uvf_cut_free(handle_);
+            handle_ = std::exchange(other.handle_, nullptr);
+        }
+        return *this;
+    }
+    ~Cut() { uvf_cut_free(handle_); }
+
+    UvfCutInfo info() const {
+        UvfCutInfo i{};
+        detail::check(uvf_cut_info(handle_, &i));
+        return i;
+    }
+    std::vector<double> positions() const {
+        std::vector<double> out(3 * info().vertex_count);
+        detail::check(uvf_cut_copy_positions(handle_, out.data(), out.size()));
+        return out;
+    }
+    std::vector<std::uint32_t> triangles() const {
+        std::vector<std::uint32_t> out(3 * info().triangle_count);
+        detail::check(uvf_cut_copy_triangles(handle_, out.data(), out.size()));
+        return out;
+    }
+    std::vector<std::uint32_t> original_vertices() const {
+        std::vector<std::uint32_t> out(info().vertex_count);
+        detail::check(uvf_cut_copy_original_vertices(handle_, out.data(), out.size()));
+        return out;
+    }
+    /// Input vertex pairs along the cut (2 per edge).
+    std::vector<std::uint32_t> edges() const {
+        std::vector<std::uint32_t> out(2 * info().edge_count);
+        detail::check(uvf_cut_copy_edges(handle_, out.data(), out.size()));
+        return out;
+    }
+
+  private:
+    UvfCut *handle_ = nullptr;
+};
+
+/// Real-time boundary editing (Desbrun et al. 2002 §4.2, `uvf_boundary_editor_*`): factors
+/// λ·DCP + μ·DAP once; `solve` maps new positions of the outer boundary to the whole map.
+/// Move-only owner of the library's handle; `solve` may run concurrently from several threads.
+class BoundaryEditor {
+  public:
+    BoundaryEditor(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+                   double lambda = 1.0, double mu = 0.0)
+        : vertex_count_(detail::count_of(positions, 3, "positions")) {
+        detail::check(uvf_boundary_editor_new(positions.data(), vertex_count_, triangles.data(),
+                                              detail::count_of(triangles, "triangles"), lambda, mu, nullptr, &handle_));
+    }
+    BoundaryEditor(const BoundaryEditor &) = delete;
+    BoundaryEditor &operator=(const BoundaryEditor &) = delete;
+    BoundaryEditor(BoundaryEditor &&other) noexcept
+        : handle_(std::exchange(other.handle_, nullptr)), vertex_count_(other.vertex_count_) {}
+    BoundaryEditor &operator=(BoundaryEditor &&other) noexcept {
+        if (this != &other) {
+            uvf_boundary_editor_free(handle_);
+            handle_ = std::exchange(other.handle_, nullptr);
+            vertex_count_ = other.vertex_count_;
+        }
+        return *this;
+    }
+    ~BoundaryEditor() { uvf_boundary_editor_free(handle_); }
+
+    /// The outer loop's vertices, in the order `solve` expects their UVs.
+    std::vector<std::uint32_t> boundary() const {
+        std::size_t count = 0;
+        detail::check(uvf_boundary_editor_boundary(handle_, &count, nullptr));
+        std::vector<std::uint32_t> out(count);
+        detail::check(uvf_boundary_editor_boundary(handle_, &count, out.data()));
+        return out;
+    }
+    /// UVs of every vertex (2 per vertex) for `boundary_uv` (2 per boundary vertex).
+    std::vector<double> solve(const std::vector<double> &boundary_uv) const {
+        std::vector<double> uv(2 * vertex_count_);
+        detail::check(uvf_boundary_editor_solve(handle_, boundary_uv.data(),
+                                                detail::count_of(boundary_uv, 2, "boundary_uv"), uv.data()));
+        return uv;
+    }
+
+  private:
+    UvfBoundaryEditor *handle_ = nullptr;
+    std::size_t vertex_count_ = 0;
+};
+
 } // namespace uvflat
 
 #endif // UVFLAT_HPP

@@ -101,6 +101,48 @@ void check_method(const std::string &name, const Mesh &mesh, const Arrays &a, co
     if (must_not_flip && m.flipped != 0) fail(name, std::string(method) + " flipped triangles");
 }
 
+/// The RAII cut: the cut mesh is one disk whose corners map back to the input's vertices, and
+/// the mean value map of it flips nothing.
+void check_cut(const std::string &name, const Arrays &a) {
+    try {
+        uvflat::Cut cut(a.positions, a.triangles);
+        uvflat::Cut moved = std::move(cut);
+        const std::vector<std::uint32_t> tris = moved.triangles(), original = moved.original_vertices();
+        const std::vector<double> pos = moved.positions();
+        if (tris.size() != a.triangles.size()) fail(name, "the cut changed the triangle count");
+        for (std::size_t k = 0; k < tris.size(); ++k) {
+            if (original[tris[k]] != a.triangles[k]) fail(name, "a cut corner does not map back to its vertex");
+        }
+        const UvfMeshInfo info = uvflat::mesh_info(pos, tris);
+        if (info.boundary_loops != 1 || info.euler_characteristic != 1) fail(name, "the cut mesh is not a disk");
+        const std::vector<double> uv = uvflat::fixed_boundary_map(pos, tris);
+        if (uvflat::metrics(pos, tris, uv).flipped != 0) fail(name, "the cut mesh's mean value map flipped");
+    } catch (const uvflat::Error &e) {
+        fail(name, std::string("cut failed: ") + e.what());
+    }
+}
+
+/// The RAII boundary editor reproduces the fixed-boundary map for the boundary it is given.
+void check_boundary_editor(const std::string &name, const Arrays &a) {
+    if (a.triangles.size() > 3 * 40000) return; // keep the suite fast
+    uvflat::FixedBoundaryOptions options;
+    options.weights = uvflat::Weights::conformal;
+    const std::vector<double> fresh = uvflat::fixed_boundary_map(a.positions, a.triangles, options);
+    const uvflat::BoundaryEditor editor(a.positions, a.triangles, 1.0, 0.0);
+    std::vector<double> boundary_uv;
+    for (std::uint32_t v : editor.boundary()) {
+        boundary_uv.push_back(fresh[2 * v]);
+        boundary_uv.push_back(fresh[2 * v + 1]);
+    }
+    const std::vector<double> uv = editor.solve(boundary_uv);
+    for (std::size_t k = 0; k < uv.size(); ++k) {
+        if (!(std::abs(uv[k] - fresh[k]) <= 1e-8) && !(std::isnan(uv[k]) && std::isnan(fresh[k]))) {
+            fail(name, "the boundary editor differs from the fixed-boundary map");
+            return;
+        }
+    }
+}
+
 void check_mesh(const std::string &path, const std::string &out_dir) {
     const std::string name = base_name(path);
     Mesh mesh;
@@ -120,6 +162,8 @@ void check_mesh(const std::string &path, const std::string &out_dir) {
         return;
     }
     const bool disk_with_holes = info.components == 1 && info.genus == 0 && info.boundary_loops >= 1;
+    if (!disk_with_holes && info.components == 1) check_cut(name, a);
+    if (disk_with_holes && info.boundary_loops == 1) check_boundary_editor(name, a);
     if (!disk_with_holes) {
         try {
             uvflat::natural_conformal_map(a.positions, a.triangles);
