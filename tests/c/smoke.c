@@ -254,6 +254,16 @@ static void check_intrinsic_tools(const double *positions, size_t nv, const uint
               && editor == NULL, "λ = μ = 0 refused");
     check(uvf_spectral_conformal_map(positions, nv, triangles, nt, uv) == UVF_NOT_IMPLEMENTED,
           "spectral conformal map is not implemented yet");
+    {
+        double lambda = -1.0;
+        uv[0] = 42.0;
+        check(uvf_intrinsic_optimal_map(positions, nv, triangles, nt, 0, &lambda, uv) == UVF_NOT_IMPLEMENTED &&
+                  uvf_last_error_message()[0] != '\0' && uv[0] == 42.0 && lambda == -1.0,
+              "near-optimal lambda is not implemented yet (message set, outputs untouched)");
+        check(uvf_boundary_optimized_map(positions, nv, triangles, nt, 0, uv) == UVF_NOT_IMPLEMENTED &&
+                  uvf_last_error_message()[0] != '\0' && uv[0] == 42.0,
+              "boundary optimization is not implemented yet (message set, outputs untouched)");
+    }
 }
 
 /* uvf_abf: ABF++ and ABF converge on the bent grid without flips, report their iterations, and
