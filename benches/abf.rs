@@ -20,17 +20,13 @@ use uvflat::{natural_conformal_map, TriMesh};
 const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
 
 fn env_usize(name: &str, default: usize) -> usize {
-    std::env::var(name)
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
+    std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
 }
 
 /// Disk meshes (`disk_*.obj`) with their face counts, smallest first.
 fn disk_meshes(max_faces: usize) -> Vec<(usize, String)> {
-    let only: Option<Vec<String>> = std::env::var("UVFLAT_BENCH_MESHES")
-        .ok()
-        .map(|s| s.split(',').map(str::to_string).collect());
+    let only: Option<Vec<String>> =
+        std::env::var("UVFLAT_BENCH_MESHES").ok().map(|s| s.split(',').map(str::to_string).collect());
     let mut files: Vec<(usize, String)> = std::fs::read_dir(MESH_DIR)
         .expect("mesh directory")
         .filter_map(|e| {
@@ -61,16 +57,8 @@ fn main() {
     println!("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (faces, name) in disk_meshes(max_faces) {
         let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(&name)).expect("read mesh");
-        let tris: Vec<[u32; 3]> = obj
-            .triangles
-            .chunks_exact(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect();
-        let points: Vec<[f64; 3]> = obj
-            .positions
-            .chunks_exact(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect();
+        let tris: Vec<[u32; 3]> = obj.triangles.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        let points: Vec<[f64; 3]> = obj.positions.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         let start = Instant::now();
         let mesh = TriMesh::new(&obj.positions, &obj.triangles).expect("valid mesh");
         let conformal = natural_conformal_map(&mesh, None).expect("natural conformal");
@@ -83,10 +71,7 @@ fn main() {
         for (variant, label) in variants {
             let start = Instant::now();
             let mesh = TriMesh::new(&obj.positions, &obj.triangles).expect("valid mesh");
-            let options = AbfOptions {
-                variant,
-                ..AbfOptions::default()
-            };
+            let options = AbfOptions { variant, ..AbfOptions::default() };
             match abf(&mesh, &options) {
                 Ok(result) => {
                     let seconds = start.elapsed().as_secs_f64();

@@ -35,7 +35,13 @@ fn main() {
     let runs: usize = std::env::var("UVFLAT_EDITOR_RUNS").ok().and_then(|s| s.parse().ok()).unwrap_or(20);
     let obj = uvflat::io::obj::read_obj(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     let mesh = TriMesh::new(&obj.positions, &obj.triangles).expect("valid mesh");
-    println!("mesh: {} ({} vertices, {} faces), {runs} re-solves per row, threads: {}\n", path.display(), mesh.vertex_count(), mesh.triangle_count(), rayon::current_num_threads());
+    println!(
+        "mesh: {} ({} vertices, {} faces), {runs} re-solves per row, threads: {}\n",
+        path.display(),
+        mesh.vertex_count(),
+        mesh.triangle_count(),
+        rayon::current_num_threads()
+    );
     println!("| λ, μ | factor (ms) | re-solve median (ms) | re-solve min (ms) | fresh fixed-boundary map (ms) |");
     println!("|---|---|---|---|---|");
     for (lambda, mu) in [(1.0, 0.0), (0.5, 0.5)] {
@@ -52,11 +58,20 @@ fn main() {
         }
         let b = boundary(&editor, 0.1 * (runs - 1) as f64);
         let given: Vec<(u32, [f64; 2])> = editor.boundary_vertices().iter().copied().zip(b).collect();
-        let options = FixedBoundaryOptions { weights: Weights::Intrinsic { lambda, mu }, shape: BoundaryShape::Given(given), distribution: Distribution::Uniform };
+        let options = FixedBoundaryOptions {
+            weights: Weights::Intrinsic { lambda, mu },
+            shape: BoundaryShape::Given(given),
+            distribution: Distribution::Uniform,
+        };
         let t = Instant::now();
         let fresh = fixed_boundary_map(&mesh, &options).expect("fresh map");
         let fresh_ms = t.elapsed().as_secs_f64() * 1e3;
-        let diff = last.iter().zip(&fresh).filter(|(p, _)| p[0].is_finite()).map(|(p, q)| (p[0] - q[0]).abs().max((p[1] - q[1]).abs())).fold(0.0, f64::max);
+        let diff = last
+            .iter()
+            .zip(&fresh)
+            .filter(|(p, _)| p[0].is_finite())
+            .map(|(p, q)| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()))
+            .fold(0.0, f64::max);
         assert!(diff <= 1e-9, "editor and fresh solve differ by {diff:e}");
         let min = times.iter().copied().fold(f64::INFINITY, f64::min);
         println!("| {lambda}, {mu} | {factor:.0} | {:.1} | {min:.1} | {fresh_ms:.0} |", median(times));

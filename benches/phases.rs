@@ -14,7 +14,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 use uvflat::linalg::{ordering, CholeskyPattern};
 use uvflat::methods::conformal::{resolve_pins, ConformalSystem};
-use uvflat::{fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, FixedBoundaryOptions, TriMesh, Weights};
+use uvflat::{
+    fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, FixedBoundaryOptions, TriMesh, Weights,
+};
 
 /// Wall and CPU seconds spent in each named phase, one entry per run.
 #[derive(Default)]
@@ -27,7 +29,9 @@ struct Timings {
 /// time hides.
 fn process_cpu_seconds() -> f64 {
     let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else { return f64::NAN };
-    let Some(fields) = stat.rfind(')').map(|k| stat[k + 2..].split_whitespace().collect::<Vec<_>>()) else { return f64::NAN };
+    let Some(fields) = stat.rfind(')').map(|k| stat[k + 2..].split_whitespace().collect::<Vec<_>>()) else {
+        return f64::NAN;
+    };
     let ticks = |i: usize| fields.get(i).and_then(|f| f.parse::<f64>().ok()).unwrap_or(f64::NAN);
     // utime and stime, in clock ticks of 1/100 s.
     (ticks(11) + ticks(12)) / 100.0
@@ -65,7 +69,11 @@ impl Timings {
 fn median(mut values: Vec<f64>) -> f64 {
     values.sort_by(f64::total_cmp);
     let n = values.len();
-    if n % 2 == 1 { values[n / 2] } else { 0.5 * (values[n / 2 - 1] + values[n / 2]) }
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
 }
 
 /// One run of the natural conformal map's steps; returns the number of entries of L.
@@ -88,7 +96,8 @@ fn conformal_phases(positions: &[f64], triangles: &[u32], t: &mut Timings) -> Re
 }
 
 fn fixed_boundary_total(mesh: &TriMesh, weights: Weights) -> Result<(), uvflat::Error> {
-    let options = FixedBoundaryOptions { weights, shape: BoundaryShape::Circle, distribution: Distribution::ChordLength };
+    let options =
+        FixedBoundaryOptions { weights, shape: BoundaryShape::Circle, distribution: Distribution::ChordLength };
     std::hint::black_box(fixed_boundary_map(mesh, &options)?);
     Ok(())
 }
@@ -115,7 +124,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let skip_fixed = std::env::var_os("UVFLAT_PHASES_NC_ONLY").is_some();
     let obj = uvflat::io::obj::read_obj(&path)?;
     let (positions, triangles) = (&obj.positions, &obj.triangles);
-    println!("{}: {} vertices, {} faces; {} rayon threads, {runs} runs", path.display(), positions.len() / 3, triangles.len() / 3, rayon::current_num_threads());
+    println!(
+        "{}: {} vertices, {} faces; {} rayon threads, {runs} runs",
+        path.display(),
+        positions.len() / 3,
+        triangles.len() / 3,
+        rayon::current_num_threads()
+    );
     let mut t = Timings::default();
     let mut factor_len = 0;
     for _ in 0..runs {

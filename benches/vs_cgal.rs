@@ -17,17 +17,19 @@
 //! CGAL runs single-threaded; uvflat uses as many threads as rayon gives it (printed).
 //! `disk_bimba_cut_loop2.obj.gz` is unpacked once into `<target>/meshes/` with `gzip -dc`.
 
-#[path = "../tests/common/compiler.rs"]
-mod compiler;
 #[path = "../tests/common/cgal.rs"]
 mod cgal;
+#[path = "../tests/common/compiler.rs"]
+mod compiler;
 
 use cgal::{DiskMesh, Method};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
-use uvflat::{fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, FixedBoundaryOptions, TriMesh, Weights};
+use uvflat::{
+    fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, FixedBoundaryOptions, TriMesh, Weights,
+};
 
 /// A run longer than this is not repeated.
 const REPEAT_LIMIT_SECONDS: f64 = 60.0;
@@ -80,7 +82,12 @@ fn median_time(mut run: impl FnMut() -> Result<f64, String>) -> Result<f64, Stri
 }
 
 /// One uvflat run: `TriMesh::new` plus the method, in seconds.
-fn time_uvflat(positions: &[f64], triangles: &[u32], method: Method, pins: Option<[(u32, [f64; 2]); 2]>) -> Result<f64, String> {
+fn time_uvflat(
+    positions: &[f64],
+    triangles: &[u32],
+    method: Method,
+    pins: Option<[(u32, [f64; 2]); 2]>,
+) -> Result<f64, String> {
     let start = Instant::now();
     let mesh = TriMesh::new(positions, triangles).map_err(|e| e.to_string())?;
     let weights = match method {
@@ -95,7 +102,8 @@ fn time_uvflat(positions: &[f64], triangles: &[u32], method: Method, pins: Optio
             return Ok(seconds);
         }
     };
-    let options = FixedBoundaryOptions { weights, shape: BoundaryShape::Circle, distribution: Distribution::ChordLength };
+    let options =
+        FixedBoundaryOptions { weights, shape: BoundaryShape::Circle, distribution: Distribution::ChordLength };
     let uv = fixed_boundary_map(&mesh, &options).map_err(|e| e.to_string())?;
     let seconds = start.elapsed().as_secs_f64();
     std::hint::black_box(uv);
@@ -127,7 +135,15 @@ fn bench_mesh(exe: &Path, disk: &DiskMesh) {
             (Ok(c), Ok(u)) if *u > 0.0 => format!("{:.2}", c / u),
             _ => "-".to_string(),
         };
-        println!("| {} | {} | {} | {} | {} | {} |", disk.name, disk.faces, method.name(), cell(&ours), cell(&cgal), ratio);
+        println!(
+            "| {} | {} | {} | {} | {} | {} |",
+            disk.name,
+            disk.faces,
+            method.name(),
+            cell(&ours),
+            cell(&cgal),
+            ratio
+        );
         let _ = std::io::stdout().flush();
     }
 }
@@ -162,7 +178,10 @@ fn main() {
         }
     }
 
-    println!("uvflat vs CGAL 5.5.1 Surface_mesh_parameterization ({} rayon threads for uvflat, CGAL single-threaded)", rayon::current_num_threads());
+    println!(
+        "uvflat vs CGAL 5.5.1 Surface_mesh_parameterization ({} rayon threads for uvflat, CGAL single-threaded)",
+        rayon::current_num_threads()
+    );
     println!("uvflat s: TriMesh::new + method, median of {RUNS}; CGAL s: parameterize() only, median of {RUNS} (1 run if > {REPEAT_LIMIT_SECONDS} s)");
     println!();
     println!("| mesh | faces | method | uvflat s | CGAL s | CGAL/uvflat |");

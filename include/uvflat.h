@@ -25,6 +25,38 @@
 #define UVF_ABF_VARIANT_ABF_PLUS_PLUS 1
 
 /**
+ * Default edge cost: length divided by `1 + 3·θ/π` (θ the dihedral angle).
+ */
+#define UVF_CUT_COST_CURVATURE 0
+
+/**
+ * Plain edge length.
+ */
+#define UVF_CUT_COST_LENGTH 1
+
+/**
+ * Caller-given cost per half-edge in `edge_cost`.
+ */
+#define UVF_CUT_COST_GIVEN 2
+
+/**
+ * Tutte embedding of the mesh minus one vertex star, gnomonic lift, flip-guarded relaxation:
+ * never flips (the default).
+ */
+#define UVF_SPHERE_TUTTE_GNOMONIC 0
+
+/**
+ * Projected Gauss–Seidel barycentric iteration (course notes §6.1; no guarantee).
+ */
+#define UVF_SPHERE_GAUSS_SEIDEL 1
+
+/**
+ * Haker et al. 2000: harmonic map of the mesh minus one triangle + inverse stereographic
+ * projection (no guarantee).
+ */
+#define UVF_SPHERE_STEREOGRAPHIC 2
+
+/**
  * Tutte's uniform weights.
  */
 #define UVF_WEIGHTS_UNIFORM 0
@@ -113,38 +145,6 @@
  * Degener et al. 2003 θ-energy (angle × area^θ).
  */
 #define UVF_NONLINEAR_DEGENER 5
-
-/**
- * Default edge cost: length divided by `1 + 3·θ/π` (θ the dihedral angle).
- */
-#define UVF_CUT_COST_CURVATURE 0
-
-/**
- * Plain edge length.
- */
-#define UVF_CUT_COST_LENGTH 1
-
-/**
- * Caller-given cost per half-edge in `edge_cost`.
- */
-#define UVF_CUT_COST_GIVEN 2
-
-/**
- * Tutte embedding of the mesh minus one vertex star, gnomonic lift, flip-guarded relaxation:
- * never flips (the default).
- */
-#define UVF_SPHERE_TUTTE_GNOMONIC 0
-
-/**
- * Projected Gauss–Seidel barycentric iteration (course notes §6.1; no guarantee).
- */
-#define UVF_SPHERE_GAUSS_SEIDEL 1
-
-/**
- * Haker et al. 2000: harmonic map of the mesh minus one triangle + inverse stereographic
- * projection (no guarantee).
- */
-#define UVF_SPHERE_STEREOGRAPHIC 2
 
 /**
  * Largest fraction of the total weight one side may take.
@@ -290,6 +290,71 @@ typedef struct UvfAbfReport {
    */
   uint64_t invalid_angles;
 } UvfAbfReport;
+
+/**
+ * Options of `uvf_cut_to_disk`. Initialise with `uvf_cut_options_default`.
+ */
+typedef struct UvfCutOptions {
+  /**
+   * `sizeof(UvfCutOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * One of `UVF_CUT_COST_*` (default curvature-weighted length).
+   */
+  uint32_t cost;
+  /**
+   * For `UVF_CUT_COST_GIVEN`: 3 doubles per triangle, the cost of half-edge `3t + k` (from
+   * corner k of triangle t to corner k + 1), finite and ≥ 0; an interior edge costs the
+   * mean of its two half-edges. Low cost attracts the cut.
+   */
+  const double *edge_cost;
+} UvfCutOptions;
+
+/**
+ * Sizes and lengths of a cut (see `uvf_cut_info`).
+ */
+typedef struct UvfCutInfo {
+  /**
+   * Vertices of the cut mesh (input vertices duplicated along the cut; unreferenced input
+   * vertices dropped).
+   */
+  size_t vertex_count;
+  /**
+   * Triangles (the input's, same order).
+   */
+  size_t triangle_count;
+  /**
+   * Cut edges (interior input edges opened by the cut).
+   */
+  size_t edge_count;
+  /**
+   * Total 3D length of the cut edges.
+   */
+  double seam_length;
+  /**
+   * Total 3D length of all input edges.
+   */
+  double total_edge_length;
+} UvfCutInfo;
+
+/**
+ * Options of `uvf_spherical_map`. Initialise with `uvf_sphere_options_default`.
+ */
+typedef struct UvfSphereOptions {
+  /**
+   * `sizeof(UvfSphereOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * One of `UVF_SPHERE_*` (default `UVF_SPHERE_TUTTE_GNOMONIC`).
+   */
+  uint32_t method;
+  /**
+   * Relaxation sweeps (default 100); ignored by the stereographic method.
+   */
+  uint32_t sweeps;
+} UvfSphereOptions;
 
 /**
  * Options of the constrained natural conformal maps and of the boundary editor. Initialise
@@ -566,71 +631,6 @@ typedef struct UvfNonlinearReport {
   double final_energy;
 } UvfNonlinearReport;
 
-/**
- * Options of `uvf_cut_to_disk`. Initialise with `uvf_cut_options_default`.
- */
-typedef struct UvfCutOptions {
-  /**
-   * `sizeof(UvfCutOptions)`, set by the default initialiser.
-   */
-  size_t struct_size;
-  /**
-   * One of `UVF_CUT_COST_*` (default curvature-weighted length).
-   */
-  uint32_t cost;
-  /**
-   * For `UVF_CUT_COST_GIVEN`: 3 doubles per triangle, the cost of half-edge `3t + k` (from
-   * corner k of triangle t to corner k + 1), finite and ≥ 0; an interior edge costs the
-   * mean of its two half-edges. Low cost attracts the cut.
-   */
-  const double *edge_cost;
-} UvfCutOptions;
-
-/**
- * Sizes and lengths of a cut (see `uvf_cut_info`).
- */
-typedef struct UvfCutInfo {
-  /**
-   * Vertices of the cut mesh (input vertices duplicated along the cut; unreferenced input
-   * vertices dropped).
-   */
-  size_t vertex_count;
-  /**
-   * Triangles (the input's, same order).
-   */
-  size_t triangle_count;
-  /**
-   * Cut edges (interior input edges opened by the cut).
-   */
-  size_t edge_count;
-  /**
-   * Total 3D length of the cut edges.
-   */
-  double seam_length;
-  /**
-   * Total 3D length of all input edges.
-   */
-  double total_edge_length;
-} UvfCutInfo;
-
-/**
- * Options of `uvf_spherical_map`. Initialise with `uvf_sphere_options_default`.
- */
-typedef struct UvfSphereOptions {
-  /**
-   * `sizeof(UvfSphereOptions)`, set by the default initialiser.
-   */
-  size_t struct_size;
-  /**
-   * One of `UVF_SPHERE_*` (default `UVF_SPHERE_TUTTE_GNOMONIC`).
-   */
-  uint32_t method;
-  /**
-   * Relaxation sweeps (default 100); ignored by the stereographic method.
-   */
-  uint32_t sweeps;
-} UvfSphereOptions;
-
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -670,6 +670,126 @@ enum UvfStatus uvf_abf(const double *positions,
                        const struct UvfAbfOptions *options,
                        double *uv_out,
                        struct UvfAbfReport *report_out);
+
+/**
+ * Fills `options` with defaults (curvature-weighted edge length).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_cut_options_default(struct UvfCutOptions *options);
+
+/**
+ * Cuts a connected manifold mesh (closed or with boundary loops, any genus) into a topological
+ * disk: tree–cotree cut graph (Eppstein 2003) with a shortest-path primal tree and a maximum
+ * dual tree by loop length (Erickson & Whittlesey's greedy loops), dangling branches pruned,
+ * boundary loops joined; closed genus-0 meshes are cut along a path between two far vertices.
+ * The cut is steered by the edge cost (Seamster-like: short edges and sharp creases are cheap).
+ *
+ * On success `*cut_out` receives a handle to free with `uvf_cut_free`. The cut mesh has the
+ * input's triangles (same order) over a new vertex set; run any disk method on
+ * (`uvf_cut_copy_positions`, `uvf_cut_copy_triangles`) and use the result as per-corner UVs.
+ * `options` may be NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointer, bad cost),
+ * `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (several components), `UVF_INTERNAL_ERROR`.
+ * On failure `*cut_out` is untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `cut_out` must be writable.
+ */
+enum UvfStatus uvf_cut_to_disk(const double *positions,
+                               size_t vertex_count,
+                               const uint32_t *triangles,
+                               size_t triangle_count,
+                               const struct UvfCutOptions *options,
+                               struct UvfCut **cut_out);
+
+/**
+ * Sizes and seam length of a cut. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
+ *
+ * # Safety
+ * `cut` must be a live handle or NULL; `info_out` writable.
+ */
+enum UvfStatus uvf_cut_info(const struct UvfCut *cut, struct UvfCutInfo *info_out);
+
+/**
+ * The cut edges as pairs of input vertex indices `a < b`: `2 × edge_count` entries written to
+ * `edges_out`, whose capacity (in `uint32_t`) is `capacity`. Returns `UVF_OK` or
+ * `UVF_INVALID_ARGUMENT` (NULL, capacity too small; output untouched).
+ *
+ * # Safety
+ * `cut` must be a live handle or NULL; `edges_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_cut_copy_edges(const struct UvfCut *cut, uint32_t *edges_out, size_t capacity);
+
+/**
+ * Triangles of the cut mesh: `3 × triangle_count` cut-mesh vertex indices (corner k of input
+ * triangle t at `3t + k`), i.e. the per-corner UV indices of any map computed on the cut mesh.
+ * Statuses as `uvf_cut_copy_edges`.
+ *
+ * # Safety
+ * `cut` must be a live handle or NULL; `triangles_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_cut_copy_triangles(const struct UvfCut *cut,
+                                      uint32_t *triangles_out,
+                                      size_t capacity);
+
+/**
+ * The input vertex of every cut-mesh vertex: `vertex_count` entries. Statuses as
+ * `uvf_cut_copy_edges`.
+ *
+ * # Safety
+ * `cut` must be a live handle or NULL; `original_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_cut_copy_original_vertices(const struct UvfCut *cut,
+                                              uint32_t *original_out,
+                                              size_t capacity);
+
+/**
+ * Positions of the cut-mesh vertices (copies of their input vertices): `3 × vertex_count`
+ * doubles. Statuses as `uvf_cut_copy_edges`.
+ *
+ * # Safety
+ * `cut` must be a live handle or NULL; `positions_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_cut_copy_positions(const struct UvfCut *cut,
+                                      double *positions_out,
+                                      size_t capacity);
+
+/**
+ * Releases a cut handle (NULL is ignored).
+ *
+ * # Safety
+ * `cut` must come from `uvf_cut_to_disk` and not have been freed.
+ */
+void uvf_cut_free(struct UvfCut *cut);
+
+/**
+ * Fills `options` with defaults (Tutte–gnomonic, 100 sweeps).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_sphere_options_default(struct UvfSphereOptions *options);
+
+/**
+ * Spherical parameterization of a closed genus-0 mesh (course notes §6.1): unit-sphere
+ * positions, 3 doubles per vertex in `sphere_out` (`vertex_count` triples; NaN for
+ * unreferenced vertices), and in `*flipped_out` the number of triangles with
+ * `det[p0, p1, p2] ≤ 0` (0 for `UVF_SPHERE_TUTTE_GNOMONIC` by construction). `options` may be
+ * NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`,
+ * `UVF_UNSUPPORTED_TOPOLOGY` (not one closed genus-0 surface), `UVF_NUMERICAL_FAILURE`,
+ * `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `flipped_out` must be writable.
+ */
+enum UvfStatus uvf_spherical_map(const double *positions,
+                                 size_t vertex_count,
+                                 const uint32_t *triangles,
+                                 size_t triangle_count,
+                                 const struct UvfSphereOptions *options,
+                                 double *sphere_out,
+                                 size_t *flipped_out);
 
 /**
  * Human-readable message of the last failed call on this thread ("" after a success).
@@ -1057,126 +1177,6 @@ enum UvfStatus uvf_nonlinear_map(const double *positions,
                                  const struct UvfNonlinearOptions *options,
                                  double *uv_out,
                                  struct UvfNonlinearReport *report_out);
-
-/**
- * Fills `options` with defaults (curvature-weighted edge length).
- *
- * # Safety
- * `options` must be NULL or point to a writable struct.
- */
-void uvf_cut_options_default(struct UvfCutOptions *options);
-
-/**
- * Cuts a connected manifold mesh (closed or with boundary loops, any genus) into a topological
- * disk: tree–cotree cut graph (Eppstein 2003) with a shortest-path primal tree and a maximum
- * dual tree by loop length (Erickson & Whittlesey's greedy loops), dangling branches pruned,
- * boundary loops joined; closed genus-0 meshes are cut along a path between two far vertices.
- * The cut is steered by the edge cost (Seamster-like: short edges and sharp creases are cheap).
- *
- * On success `*cut_out` receives a handle to free with `uvf_cut_free`. The cut mesh has the
- * input's triangles (same order) over a new vertex set; run any disk method on
- * (`uvf_cut_copy_positions`, `uvf_cut_copy_triangles`) and use the result as per-corner UVs.
- * `options` may be NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointer, bad cost),
- * `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (several components), `UVF_INTERNAL_ERROR`.
- * On failure `*cut_out` is untouched.
- *
- * # Safety
- * The arrays must hold the stated number of elements; `cut_out` must be writable.
- */
-enum UvfStatus uvf_cut_to_disk(const double *positions,
-                               size_t vertex_count,
-                               const uint32_t *triangles,
-                               size_t triangle_count,
-                               const struct UvfCutOptions *options,
-                               struct UvfCut **cut_out);
-
-/**
- * Sizes and seam length of a cut. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
- *
- * # Safety
- * `cut` must be a live handle or NULL; `info_out` writable.
- */
-enum UvfStatus uvf_cut_info(const struct UvfCut *cut, struct UvfCutInfo *info_out);
-
-/**
- * The cut edges as pairs of input vertex indices `a < b`: `2 × edge_count` entries written to
- * `edges_out`, whose capacity (in `uint32_t`) is `capacity`. Returns `UVF_OK` or
- * `UVF_INVALID_ARGUMENT` (NULL, capacity too small; output untouched).
- *
- * # Safety
- * `cut` must be a live handle or NULL; `edges_out` must hold `capacity` elements.
- */
-enum UvfStatus uvf_cut_copy_edges(const struct UvfCut *cut, uint32_t *edges_out, size_t capacity);
-
-/**
- * Triangles of the cut mesh: `3 × triangle_count` cut-mesh vertex indices (corner k of input
- * triangle t at `3t + k`), i.e. the per-corner UV indices of any map computed on the cut mesh.
- * Statuses as `uvf_cut_copy_edges`.
- *
- * # Safety
- * `cut` must be a live handle or NULL; `triangles_out` must hold `capacity` elements.
- */
-enum UvfStatus uvf_cut_copy_triangles(const struct UvfCut *cut,
-                                      uint32_t *triangles_out,
-                                      size_t capacity);
-
-/**
- * The input vertex of every cut-mesh vertex: `vertex_count` entries. Statuses as
- * `uvf_cut_copy_edges`.
- *
- * # Safety
- * `cut` must be a live handle or NULL; `original_out` must hold `capacity` elements.
- */
-enum UvfStatus uvf_cut_copy_original_vertices(const struct UvfCut *cut,
-                                              uint32_t *original_out,
-                                              size_t capacity);
-
-/**
- * Positions of the cut-mesh vertices (copies of their input vertices): `3 × vertex_count`
- * doubles. Statuses as `uvf_cut_copy_edges`.
- *
- * # Safety
- * `cut` must be a live handle or NULL; `positions_out` must hold `capacity` elements.
- */
-enum UvfStatus uvf_cut_copy_positions(const struct UvfCut *cut,
-                                      double *positions_out,
-                                      size_t capacity);
-
-/**
- * Releases a cut handle (NULL is ignored).
- *
- * # Safety
- * `cut` must come from `uvf_cut_to_disk` and not have been freed.
- */
-void uvf_cut_free(struct UvfCut *cut);
-
-/**
- * Fills `options` with defaults (Tutte–gnomonic, 100 sweeps).
- *
- * # Safety
- * `options` must be NULL or point to a writable struct.
- */
-void uvf_sphere_options_default(struct UvfSphereOptions *options);
-
-/**
- * Spherical parameterization of a closed genus-0 mesh (course notes §6.1): unit-sphere
- * positions, 3 doubles per vertex in `sphere_out` (`vertex_count` triples; NaN for
- * unreferenced vertices), and in `*flipped_out` the number of triangles with
- * `det[p0, p1, p2] ≤ 0` (0 for `UVF_SPHERE_TUTTE_GNOMONIC` by construction). `options` may be
- * NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`,
- * `UVF_UNSUPPORTED_TOPOLOGY` (not one closed genus-0 surface), `UVF_NUMERICAL_FAILURE`,
- * `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
- *
- * # Safety
- * The arrays must hold the stated number of elements; `flipped_out` must be writable.
- */
-enum UvfStatus uvf_spherical_map(const double *positions,
-                                 size_t vertex_count,
-                                 const uint32_t *triangles,
-                                 size_t triangle_count,
-                                 const struct UvfSphereOptions *options,
-                                 double *sphere_out,
-                                 size_t *flipped_out);
 
 #ifdef __cplusplus
 }  // extern "C"

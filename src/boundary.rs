@@ -83,9 +83,11 @@ pub fn square_point(t: f64) -> [f64; 2] {
 /// Places the boundary: the longest loop on a convex shape, or the caller's positions.
 pub fn fixed_boundary(mesh: &TriMesh, shape: &BoundaryShape, distribution: Distribution) -> Result<FixedBoundary> {
     let loops = mesh.boundary_loops();
-    let outer = mesh
-        .longest_boundary_loop()
-        .ok_or(Error::NotADisk { components: 1, boundary_loops: 0, genus: mesh.topology().genus })?;
+    let outer = mesh.longest_boundary_loop().ok_or(Error::NotADisk {
+        components: 1,
+        boundary_loops: 0,
+        genus: mesh.topology().genus,
+    })?;
     let on_shape = |f: fn(f64) -> [f64; 2]| -> FixedBoundary {
         let t = loop_parameters(mesh.points(), &loops[outer], distribution);
         let fixed = loops[outer].iter().zip(t).map(|(&v, t)| (v, f(t))).collect();
@@ -105,10 +107,14 @@ fn given_boundary(mesh: &TriMesh, given: &[(u32, [f64; 2])]) -> Result<FixedBoun
     let mut uv: Vec<Option<[f64; 2]>> = vec![None; n];
     for &(v, p) in given {
         if v as usize >= n {
-            return Err(Error::InvalidArgument(format!("boundary vertex {v} does not exist (the mesh has {n} vertices)")));
+            return Err(Error::InvalidArgument(format!(
+                "boundary vertex {v} does not exist (the mesh has {n} vertices)"
+            )));
         }
         if !mesh.is_boundary_vertex(v) {
-            return Err(Error::InvalidArgument(format!("vertex {v} was given a boundary position but is not on a boundary loop")));
+            return Err(Error::InvalidArgument(format!(
+                "vertex {v} was given a boundary position but is not on a boundary loop"
+            )));
         }
         if !(p[0].is_finite() && p[1].is_finite()) {
             return Err(Error::InvalidArgument(format!("boundary vertex {v} was given a non-finite position")));

@@ -86,9 +86,7 @@ impl Error {
     pub fn status(&self) -> UvfStatus {
         use Error::*;
         match self {
-            InvalidArgument(_) | SizeOverflow { .. } | BadArrayLength { .. } => {
-                UvfStatus::UVF_INVALID_ARGUMENT
-            }
+            InvalidArgument(_) | SizeOverflow { .. } | BadArrayLength { .. } => UvfStatus::UVF_INVALID_ARGUMENT,
             EmptyMesh
             | IndexOutOfRange { .. }
             | NonFiniteCoordinate { .. }

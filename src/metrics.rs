@@ -137,8 +137,7 @@ pub fn distortion(
     let orientations = uv_orientations(uv, uv_triangles);
     let flipped = count_orientation(&orientations, UvOrientation::Flipped);
     let degenerate_uv = count_orientation(&orientations, UvOrientation::Degenerate);
-    let summary =
-        distortion_sums(positions, triangles, uv, uv_triangles, &orientations).summarize();
+    let summary = distortion_sums(positions, triangles, uv, uv_triangles, &orientations).summarize();
     let edges = uv_edges(uv_triangles);
     Ok(Metrics {
         triangles: triangles.len(),
@@ -200,30 +199,23 @@ pub fn triangle_area_3d(p: [[f64; 3]; 3]) -> f64 {
 /// Whether a uv triangle has (numerically) zero area; true for non-finite input too.
 pub fn triangle_is_degenerate_2d(q: [[f64; 2]; 3]) -> bool {
     let twice_area = (2.0 * signed_uv_area(q)).abs();
-    let longest_squared = [sub2(q[1], q[0]), sub2(q[2], q[1]), sub2(q[0], q[2])]
-        .iter()
-        .map(|e| dot2(*e, *e))
-        .fold(0.0, f64::max);
+    let longest_squared =
+        [sub2(q[1], q[0]), sub2(q[2], q[1]), sub2(q[0], q[2])].iter().map(|e| dot2(*e, *e)).fold(0.0, f64::max);
     area_is_negligible(twice_area, longest_squared)
 }
 
 /// Whether a surface triangle has (numerically) zero area; true for non-finite input too.
 pub fn triangle_is_degenerate_3d(p: [[f64; 3]; 3]) -> bool {
     let twice_area = 2.0 * triangle_area_3d(p);
-    let longest_squared = [sub3(p[1], p[0]), sub3(p[2], p[1]), sub3(p[0], p[2])]
-        .iter()
-        .map(|e| dot3(*e, *e))
-        .fold(0.0, f64::max);
+    let longest_squared =
+        [sub3(p[1], p[0]), sub3(p[2], p[1]), sub3(p[0], p[2])].iter().map(|e| dot3(*e, *e)).fold(0.0, f64::max);
     area_is_negligible(twice_area, longest_squared)
 }
 
 /// True unless 2·area is strictly above the tolerance (so NaN counts as degenerate).
 fn area_is_negligible(twice_area: f64, longest_squared: f64) -> bool {
     let threshold = DEGENERACY_TOLERANCE * longest_squared;
-    !matches!(
-        twice_area.partial_cmp(&threshold),
-        Some(std::cmp::Ordering::Greater)
-    )
+    !matches!(twice_area.partial_cmp(&threshold), Some(std::cmp::Ordering::Greater))
 }
 
 /// Edges of the uv layout, split into boundary (used once) and interior (used twice or more).
@@ -279,10 +271,7 @@ pub fn count_boundary_crossings(uv: &[[f64; 2]], edges: &[[u32; 2]]) -> usize {
                     for &j in grid.members(cell) {
                         let t = &segments[j as usize];
                         let once = level > own_level || j as usize > i;
-                        if once
-                            && grid.pair_owner(level, s, t) == Some(cell)
-                            && segments_cross_properly(s, t)
-                        {
+                        if once && grid.pair_owner(level, s, t) == Some(cell) && segments_cross_properly(s, t) {
                             crossings += 1;
                         }
                     }
@@ -338,9 +327,7 @@ fn validate_inputs(
                     )))
                 }
                 Some(q) if !q.iter().all(|x| x.is_finite()) => {
-                    return Err(Error::InvalidArgument(format!(
-                        "triangle {t}: uv {i} is not finite ({q:?})"
-                    )))
+                    return Err(Error::InvalidArgument(format!("triangle {t}: uv {i} is not finite ({q:?})")))
                 }
                 Some(_) => {}
             }
@@ -387,8 +374,7 @@ impl DistortionSums {
             self.angle += d;
             self.angle_max = self.angle_max.max(d);
         }
-        self.log_area_ratios
-            .push((area_3d, (area_uv / area_3d).ln()));
+        self.log_area_ratios.push((area_3d, (area_uv / area_3d).ln()));
     }
 
     /// Final measures, after scaling uv by k = sqrt(Σ A_3d / Σ A_uv): every σ is divided by k
@@ -428,10 +414,7 @@ fn distortion_sums(
     let mut sums = DistortionSums::default();
     for ((tri, uv_tri), o) in triangles.iter().zip(uv_triangles).zip(orientations) {
         if matches!(o, UvOrientation::Agrees | UvOrientation::Flipped) {
-            sums.add(
-                tri.map(|v| positions[v as usize]),
-                uv_tri.map(|i| uv[i as usize]),
-            );
+            sums.add(tri.map(|v| positions[v as usize]), uv_tri.map(|i| uv[i as usize]));
         }
     }
     sums
@@ -496,11 +479,7 @@ fn corner_angles_2d(q: [[f64; 2]; 3]) -> [f64; 3] {
 }
 
 fn uv_corners(uv: &[[f64; 2]], tri: [u32; 3]) -> Option<[[f64; 2]; 3]> {
-    let q = [
-        *uv.get(tri[0] as usize)?,
-        *uv.get(tri[1] as usize)?,
-        *uv.get(tri[2] as usize)?,
-    ];
+    let q = [*uv.get(tri[0] as usize)?, *uv.get(tri[1] as usize)?, *uv.get(tri[2] as usize)?];
     points_are_finite_2d(&q).then_some(q)
 }
 
@@ -529,13 +508,7 @@ fn segment(uv: &[[f64; 2]], edge: [u32; 2]) -> Option<Segment> {
     if !points_are_finite_2d(&[a, b]) {
         return None;
     }
-    Some(Segment {
-        ends: edge,
-        a,
-        b,
-        min: [a[0].min(b[0]), a[1].min(b[1])],
-        max: [a[0].max(b[0]), a[1].max(b[1])],
-    })
+    Some(Segment { ends: edge, a, b, min: [a[0].min(b[0]), a[1].min(b[1])], max: [a[0].max(b[0]), a[1].max(b[1])] })
 }
 
 /// Whether two segments cross at a single point interior to both; segments sharing an endpoint
@@ -560,11 +533,7 @@ fn opposite_signs(x: f64, y: f64) -> bool {
 /// they are so large that orientation products could overflow.
 fn scaled_to_safe_range(mut segments: Vec<Segment>) -> Vec<Segment> {
     const SAFE: f64 = 1e150;
-    let largest = segments
-        .iter()
-        .flat_map(|s| [s.a, s.b])
-        .flatten()
-        .fold(0.0f64, |m, x| m.max(x.abs()));
+    let largest = segments.iter().flat_map(|s| [s.a, s.b]).flatten().fold(0.0f64, |m, x| m.max(x.abs()));
     if largest <= SAFE {
         return segments;
     }
@@ -663,10 +632,7 @@ impl LevelGrid {
 
     fn members(&self, cell: Cell) -> impl Iterator<Item = &u32> {
         let start = self.entries.partition_point(|(c, _)| *c < cell);
-        self.entries[start..]
-            .iter()
-            .take_while(move |(c, _)| *c == cell)
-            .map(|(_, s)| s)
+        self.entries[start..].iter().take_while(move |(c, _)| *c == cell).map(|(_, s)| s)
     }
 
     /// The one cell (at `level`) where a pair of segments is counted: the cell of the lower-left
@@ -707,11 +673,7 @@ fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
 fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -735,11 +697,7 @@ mod tests {
         for j in 0..=n {
             for i in 0..=n {
                 let interior = i > 0 && j > 0 && i < n && j < n;
-                let wobble = if interior {
-                    0.2 * ((i * 7 + j * 3) as f64).sin()
-                } else {
-                    0.0
-                };
+                let wobble = if interior { 0.2 * ((i * 7 + j * 3) as f64).sin() } else { 0.0 };
                 positions.push([i as f64 + wobble, j as f64 - 0.5 * wobble, 0.0]);
             }
         }
@@ -784,19 +742,12 @@ mod tests {
         let (c, s, scale) = (0.6f64.cos(), 0.6f64.sin(), 3.7);
         let uv: Vec<[f64; 2]> = positions
             .iter()
-            .map(|p| {
-                [
-                    scale * (c * p[0] - s * p[1]) + 10.0,
-                    scale * (s * p[0] + c * p[1]) - 4.0,
-                ]
-            })
+            .map(|p| [scale * (c * p[0] - s * p[1]) + 10.0, scale * (s * p[0] + c * p[1]) - 4.0])
             .collect();
         assert_isometric(&distortion(&positions, &triangles, &uv, &triangles).unwrap());
         // The flat surface tilted in space (rotation about the x axis), layout unchanged.
-        let tilted: Vec<[f64; 3]> = positions
-            .iter()
-            .map(|p| [p[0], c * p[1] - s * p[2], s * p[1] + c * p[2]])
-            .collect();
+        let tilted: Vec<[f64; 3]> =
+            positions.iter().map(|p| [p[0], c * p[1] - s * p[2], s * p[1] + c * p[2]]).collect();
         let m = distortion(&tilted, &triangles, &xy(&positions), &triangles).unwrap();
         assert_isometric(&m);
     }
@@ -825,10 +776,7 @@ mod tests {
         }
         let m = distortion(&positions, &triangles, &uv, &uv_triangles).unwrap();
         assert_eq!(m.flipped, 1);
-        assert_eq!(
-            uv_orientations(&uv, &uv_triangles)[5],
-            UvOrientation::Flipped
-        );
+        assert_eq!(uv_orientations(&uv, &uv_triangles)[5], UvOrientation::Flipped);
         // A mirror image is still an isometry of that triangle.
         assert!((m.stretch_linf - 1.0).abs() < TOL && m.area_max < TOL);
     }
@@ -839,10 +787,7 @@ mod tests {
         let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         let q = [[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]];
         let (s1, s2) = per_triangle_singular_values(p, q).unwrap();
-        assert!(
-            (s1 - 1.0).abs() < TOL && (s2 - 0.5).abs() < TOL,
-            "{s1} {s2}"
-        );
+        assert!((s1 - 1.0).abs() < TOL && (s2 - 0.5).abs() < TOL, "{s1} {s2}");
 
         // After rescaling uv to the surface area (k = 1/√2): σ = (√2, √2/2).
         let m = distortion(&p, &[[0, 1, 2]], &q, &[[0, 1, 2]]).unwrap();
@@ -872,11 +817,7 @@ mod tests {
             })
             .sum::<f64>()
             / (2.0 * area_t);
-        assert!(
-            (s1 * s1 + s2 * s2 - dirichlet).abs() < 1e-10,
-            "{} {dirichlet}",
-            s1 * s1 + s2 * s2
-        );
+        assert!((s1 * s1 + s2 * s2 - dirichlet).abs() < 1e-10, "{} {dirichlet}", s1 * s1 + s2 * s2);
         assert!(s1 >= s2);
     }
 
@@ -918,12 +859,7 @@ mod tests {
     fn folded_quad_boundary_crosses_itself_once() {
         // Quad a b c d with triangles (a b c), (a c d); d is folded across a–c and below a–b, so
         // boundary edge c–d crosses boundary edge a–b, and triangle (a c d) flips.
-        let positions = [
-            [0.0, 0.0, 0.0],
-            [4.0, 0.0, 0.0],
-            [2.0, 2.0, 0.0],
-            [0.0, 2.0, 0.0],
-        ];
+        let positions = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [2.0, 2.0, 0.0], [0.0, 2.0, 0.0]];
         let triangles = [[0, 1, 2], [0, 2, 3]];
         let uv = [[0.0, 0.0], [4.0, 0.0], [2.0, 2.0], [1.5, -0.5]];
         let m = distortion(&positions, &triangles, &uv, &triangles).unwrap();
@@ -935,25 +871,11 @@ mod tests {
     fn triangle_poking_into_another_crosses_twice() {
         let positions = [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         let triangles = [[0, 1, 2], [0, 1, 2]];
-        let uv = [
-            [0.0, 0.0],
-            [4.0, 0.0],
-            [0.0, 4.0],
-            [1.0, -1.0],
-            [2.0, -1.0],
-            [1.5, 1.0],
-        ];
+        let uv = [[0.0, 0.0], [4.0, 0.0], [0.0, 4.0], [1.0, -1.0], [2.0, -1.0], [1.5, 1.0]];
         let m = distortion(&positions, &triangles, &uv, &[[0, 1, 2], [3, 4, 5]]).unwrap();
         assert_eq!(m.boundary_intersections, 2);
         // Touching at a shared coordinate without sharing an index is not a crossing.
-        let touching = [
-            [0.0, 0.0],
-            [4.0, 0.0],
-            [0.0, 4.0],
-            [4.0, 0.0],
-            [6.0, 0.0],
-            [5.0, 1.0],
-        ];
+        let touching = [[0.0, 0.0], [4.0, 0.0], [0.0, 4.0], [4.0, 0.0], [6.0, 0.0], [5.0, 1.0]];
         let m = distortion(&positions, &triangles, &touching, &[[0, 1, 2], [3, 4, 5]]).unwrap();
         assert_eq!(m.boundary_intersections, 0);
     }

@@ -24,6 +24,10 @@ impl<'a> Progress<'a> {
             Some(cb) => cb(fraction.clamp(0.0, 1.0)),
             None => true,
         };
-        if keep_going { Ok(()) } else { Err(Error::Cancelled) }
+        if keep_going {
+            Ok(())
+        } else {
+            Err(Error::Cancelled)
+        }
     }
 }

@@ -16,10 +16,8 @@ use uvflat::{natural_conformal_map, TriMesh};
 const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
 
 fn load(file: &str) -> (TriMesh, Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(file))
-        .unwrap_or_else(|e| panic!("{file}: {e}"));
-    let mesh =
-        TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"));
+    let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+    let mesh = TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"));
     let points = mesh.points().to_vec();
     let tris = mesh.triangles().to_vec();
     (mesh, points, tris)
@@ -43,11 +41,7 @@ fn abf_plus_plus_never_flips_and_preserves_angles_better_than_conformal() {
         let ours = distortion(&points, &tris, &result.uv, &tris).expect("metrics");
         let conformal = natural_conformal_map(&mesh, None).expect("conformal");
         let reference = distortion(&points, &tris, &conformal, &tris).expect("metrics");
-        assert!(
-            result.report.converged && result.report.gradient_norm <= 1e-6,
-            "{file}: {:?}",
-            result.report
-        );
+        assert!(result.report.converged && result.report.gradient_norm <= 1e-6, "{file}: {:?}", result.report);
         assert_eq!(ours.flipped, 0, "{file}: flipped triangles");
         assert!(
             ours.angle_mean <= reference.angle_mean,
@@ -61,25 +55,16 @@ fn abf_plus_plus_never_flips_and_preserves_angles_better_than_conformal() {
 #[test]
 fn abf_and_abf_plus_plus_find_the_same_angles() {
     let (mesh, _, _) = load("disk_nefertiti_small.obj");
-    let plus =
-        optimize_angles(&mesh, &AbfOptions::default(), &mut Progress::none()).expect("ABF++");
+    let plus = optimize_angles(&mesh, &AbfOptions::default(), &mut Progress::none()).expect("ABF++");
     let full = optimize_angles(
         &mesh,
-        &AbfOptions {
-            variant: AbfVariant::Abf,
-            ..AbfOptions::default()
-        },
+        &AbfOptions { variant: AbfVariant::Abf, ..AbfOptions::default() },
         &mut Progress::none(),
     )
     .expect("ABF");
     assert!(plus.report.converged && full.report.converged);
-    let max = plus
-        .angles
-        .iter()
-        .flatten()
-        .zip(full.angles.iter().flatten())
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
+    let max =
+        plus.angles.iter().flatten().zip(full.angles.iter().flatten()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(max < 1e-6, "angles differ by {max}");
 }
 
@@ -91,11 +76,7 @@ fn refusing_progress_callback_cancels_within_one_iteration() {
         calls += 1;
         false
     };
-    let outcome = abf_with_progress(
-        &mesh,
-        &AbfOptions::default(),
-        &mut Progress::new(&mut refuse),
-    );
+    let outcome = abf_with_progress(&mesh, &AbfOptions::default(), &mut Progress::new(&mut refuse));
     assert!(matches!(outcome, Err(Error::Cancelled)));
     assert_eq!(calls, 1);
 }

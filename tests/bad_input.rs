@@ -24,8 +24,8 @@ use std::path::Path;
 use uvflat::capi::errors::uvf_last_error_message;
 use uvflat::capi::mesh::{uvf_mesh_info, UvfMeshInfo};
 use uvflat::capi::methods::{
-    uvf_fixed_boundary_map, uvf_natural_conformal_map, UvfFixedBoundaryOptions, UvfNaturalConformalOptions, UVF_BOUNDARY_GIVEN,
-    UVF_WEIGHTS_INTRINSIC,
+    uvf_fixed_boundary_map, uvf_natural_conformal_map, UvfFixedBoundaryOptions, UvfNaturalConformalOptions,
+    UVF_BOUNDARY_GIVEN, UVF_WEIGHTS_INTRINSIC,
 };
 use uvflat::capi::metrics::{uvf_metrics, UvfMetrics};
 use uvflat::error::UvfStatus::{self, *};
@@ -131,7 +131,12 @@ struct Args {
 
 impl Args {
     fn of(raw: &Raw) -> Args {
-        Args { positions: raw.positions.as_ptr(), vertex_count: raw.nv(), triangles: raw.triangles.as_ptr(), triangle_count: raw.nt() }
+        Args {
+            positions: raw.positions.as_ptr(),
+            vertex_count: raw.nv(),
+            triangles: raw.triangles.as_ptr(),
+            triangle_count: raw.nt(),
+        }
     }
     /// Room for the UV output: 2 per vertex, but never more than a small buffer for the lying
     /// counts (those calls must fail before writing anything).
@@ -159,7 +164,11 @@ fn info(a: Args) -> (Outcome, UvfMeshInfo) {
     let status = unsafe { uvf_mesh_info(a.positions, a.vertex_count, a.triangles, a.triangle_count, &mut out) };
     let outcome = Outcome { status, message: last_message() };
     if status != UVF_OK {
-        assert_eq!(bytes_of(&out), bytes_of(&sentinel), "uvf_mesh_info wrote info_out although it failed ({outcome:?})");
+        assert_eq!(
+            bytes_of(&out),
+            bytes_of(&sentinel),
+            "uvf_mesh_info wrote info_out although it failed ({outcome:?})"
+        );
     }
     (outcome, out)
 }
@@ -169,7 +178,9 @@ fn conformal(a: Args, options: Option<&UvfNaturalConformalOptions>) -> (Outcome,
     let mut uv = sentinel_buffer(a.uv_len());
     let o = options.map_or(std::ptr::null(), |o| o as *const _);
     // SAFETY: as in `info`; `uv` holds 2 doubles per vertex whenever the call can succeed.
-    let status = unsafe { uvf_natural_conformal_map(a.positions, a.vertex_count, a.triangles, a.triangle_count, o, uv.as_mut_ptr()) };
+    let status = unsafe {
+        uvf_natural_conformal_map(a.positions, a.vertex_count, a.triangles, a.triangle_count, o, uv.as_mut_ptr())
+    };
     let outcome = Outcome { status, message: last_message() };
     if status != UVF_OK {
         assert!(untouched(&uv), "uvf_natural_conformal_map wrote uv_out although it failed ({outcome:?})");
@@ -182,7 +193,9 @@ fn fixed(a: Args, options: Option<&UvfFixedBoundaryOptions>) -> (Outcome, Vec<f6
     let mut uv = sentinel_buffer(a.uv_len());
     let o = options.map_or(std::ptr::null(), |o| o as *const _);
     // SAFETY: as in `conformal`.
-    let status = unsafe { uvf_fixed_boundary_map(a.positions, a.vertex_count, a.triangles, a.triangle_count, o, uv.as_mut_ptr()) };
+    let status = unsafe {
+        uvf_fixed_boundary_map(a.positions, a.vertex_count, a.triangles, a.triangle_count, o, uv.as_mut_ptr())
+    };
     let outcome = Outcome { status, message: last_message() };
     if status != UVF_OK {
         assert!(untouched(&uv), "uvf_fixed_boundary_map wrote uv_out although it failed ({outcome:?})");
@@ -210,7 +223,9 @@ fn metrics(a: Args, uv: *const f64, uv_count: usize, uv_triangles: *const u32) -
     };
     let mut out = sentinel;
     // SAFETY: as in `info`.
-    let status = unsafe { uvf_metrics(a.positions, a.vertex_count, a.triangles, a.triangle_count, uv, uv_count, uv_triangles, &mut out) };
+    let status = unsafe {
+        uvf_metrics(a.positions, a.vertex_count, a.triangles, a.triangle_count, uv, uv_count, uv_triangles, &mut out)
+    };
     let outcome = Outcome { status, message: last_message() };
     if status != UVF_OK {
         assert_eq!(bytes_of(&out), bytes_of(&sentinel), "uvf_metrics wrote out although it failed ({outcome:?})");
@@ -267,11 +282,19 @@ fn class_index_out_of_range() -> Messages {
         t[1] = bad;
         m.set_triangle(7, t);
         let needle = format!("triangle 7 references vertex {bad} but the mesh has 16 vertices");
-        out.push(("index out of range", expect_mesh_error("index out of range", Args::of(&m), UVF_INVALID_MESH, &[&needle])));
+        out.push((
+            "index out of range",
+            expect_mesh_error("index out of range", Args::of(&m), UVF_INVALID_MESH, &[&needle]),
+        ));
         // uvf_metrics does not need a manifold mesh but does check indices.
         let uv = vec![0.5; 32];
         let (o, _) = metrics(Args::of(&m), uv.as_ptr(), 16, std::ptr::null());
-        assert_outcome("index out of range (uvf_metrics)", &o, UVF_INVALID_ARGUMENT, &[&format!("triangle 7 references vertex {bad}")]);
+        assert_outcome(
+            "index out of range (uvf_metrics)",
+            &o,
+            UVF_INVALID_ARGUMENT,
+            &[&format!("triangle 7 references vertex {bad}")],
+        );
         out.push(("index out of range", o.message));
     }
     out
@@ -279,12 +302,16 @@ fn class_index_out_of_range() -> Messages {
 
 fn class_non_finite_coordinate() -> Messages {
     let mut out = Vec::new();
-    for (vertex, axis, value, text) in [(5usize, 1usize, f64::NAN, "NaN"), (9, 2, f64::INFINITY, "inf"), (12, 0, f64::NEG_INFINITY, "-inf")]
+    for (vertex, axis, value, text) in
+        [(5usize, 1usize, f64::NAN, "NaN"), (9, 2, f64::INFINITY, "inf"), (12, 0, f64::NEG_INFINITY, "-inf")]
     {
         let mut m = grid();
         m.positions[3 * vertex + axis] = value;
         let needle = format!("vertex {vertex} has a non-finite coordinate ({text})");
-        out.push(("non-finite coordinate", expect_mesh_error("non-finite coordinate", Args::of(&m), UVF_INVALID_MESH, &[&needle])));
+        out.push((
+            "non-finite coordinate",
+            expect_mesh_error("non-finite coordinate", Args::of(&m), UVF_INVALID_MESH, &[&needle]),
+        ));
         let uv = vec![0.5; 32];
         let (o, _) = metrics(Args::of(&m), uv.as_ptr(), 16, std::ptr::null());
         assert_outcome(
@@ -299,7 +326,12 @@ fn class_non_finite_coordinate() -> Messages {
         let mut uv: Vec<f64> = g.positions.chunks(3).flat_map(|p| [p[0], p[1]]).collect();
         uv[2 * vertex + axis.min(1)] = value;
         let (o, _) = metrics(Args::of(&g), uv.as_ptr(), 16, std::ptr::null());
-        assert_outcome("non-finite uv (uvf_metrics)", &o, UVF_INVALID_ARGUMENT, &[&format!("uv {vertex} is not finite")]);
+        assert_outcome(
+            "non-finite uv (uvf_metrics)",
+            &o,
+            UVF_INVALID_ARGUMENT,
+            &[&format!("uv {vertex} is not finite")],
+        );
         out.push(("non-finite uv", o.message));
     }
     out
@@ -319,7 +351,10 @@ fn class_degenerate_triangle() -> Messages {
         let t = m.push_triangle([a, b, c]);
         assert_eq!(t, 18);
         let what = format!("degenerate triangle, {label}");
-        out.push(("degenerate triangle", expect_mesh_error(&what, Args::of(&m), UVF_INVALID_MESH, &["triangle 18 is degenerate"])));
+        out.push((
+            "degenerate triangle",
+            expect_mesh_error(&what, Args::of(&m), UVF_INVALID_MESH, &["triangle 18 is degenerate"]),
+        ));
     }
     // A thin but valid needle (relative area 5e-9) is accepted.
     let mut m = grid();
@@ -340,7 +375,12 @@ fn class_repeated_vertex() -> Messages {
         m.set_triangle(4, tri);
         out.push((
             "repeated vertex",
-            expect_mesh_error("repeated vertex", Args::of(&m), UVF_INVALID_MESH, &["triangle 4 uses vertex 5 more than once"]),
+            expect_mesh_error(
+                "repeated vertex",
+                Args::of(&m),
+                UVF_INVALID_MESH,
+                &["triangle 4 uses vertex 5 more than once"],
+            ),
         ));
     }
     out
@@ -361,7 +401,12 @@ fn class_duplicate_triangle() -> Messages {
         let what = format!("duplicate triangle, {label}");
         out.push((
             "duplicate triangle",
-            expect_mesh_error(&what, Args::of(&m), UVF_INVALID_MESH, &["triangle 18 uses the same three vertices as triangle 6"]),
+            expect_mesh_error(
+                &what,
+                Args::of(&m),
+                UVF_INVALID_MESH,
+                &["triangle 18 uses the same three vertices as triangle 6"],
+            ),
         ));
     }
     out
@@ -388,7 +433,12 @@ fn class_non_manifold_vertex() -> Messages {
     let a = m.push_vertex([4.0, 3.5, 0.0]);
     let b = m.push_vertex([3.5, 4.0, 0.0]);
     m.push_triangle([15, a, b]);
-    let message = expect_mesh_error("bow-tie vertex", Args::of(&m), UVF_INVALID_MESH, &["vertex 15 is non-manifold", "2 separate fans"]);
+    let message = expect_mesh_error(
+        "bow-tie vertex",
+        Args::of(&m),
+        UVF_INVALID_MESH,
+        &["vertex 15 is non-manifold", "2 separate fans"],
+    );
     vec![("non-manifold vertex", message)]
 }
 
@@ -416,7 +466,10 @@ fn class_empty_mesh() -> Messages {
             Args { positions: std::ptr::null(), vertex_count: 0, triangles: std::ptr::null(), triangle_count: 0 },
         ),
     ] {
-        out.push(("empty mesh", expect_mesh_error(&format!("empty mesh, {label}"), a, UVF_INVALID_MESH, &["no triangles"])));
+        out.push((
+            "empty mesh",
+            expect_mesh_error(&format!("empty mesh, {label}"), a, UVF_INVALID_MESH, &["no triangles"]),
+        ));
         let uv = vec![0.5; 2 * a.vertex_count];
         let (o, _) = metrics(a, uv.as_ptr(), a.vertex_count, std::ptr::null());
         assert_outcome(&format!("empty mesh, {label} (uvf_metrics)"), &o, UVF_INVALID_ARGUMENT, &["no triangles"]);
@@ -432,7 +485,11 @@ fn class_size_overflow() -> Messages {
     let huge_vertices = usize::MAX / 2;
     let bytes_overflow = usize::MAX / 24 + 1; // ×3 fits in usize, ×3×8 bytes does not fit in isize
     for (label, a, needle) in [
-        ("vertex_count = usize::MAX / 2", Args { vertex_count: huge_vertices, ..ok }, format!("vertex count {huge_vertices} is too large")),
+        (
+            "vertex_count = usize::MAX / 2",
+            Args { vertex_count: huge_vertices, ..ok },
+            format!("vertex count {huge_vertices} is too large"),
+        ),
         (
             "vertex_count whose byte size overflows",
             Args { vertex_count: bytes_overflow, ..ok },
@@ -443,13 +500,25 @@ fn class_size_overflow() -> Messages {
             Args { triangle_count: usize::MAX / 2, ..ok },
             format!("triangle count {} is too large", usize::MAX / 2),
         ),
-        ("triangle_count = usize::MAX", Args { triangle_count: usize::MAX, ..ok }, format!("triangle count {} is too large", usize::MAX)),
+        (
+            "triangle_count = usize::MAX",
+            Args { triangle_count: usize::MAX, ..ok },
+            format!("triangle count {} is too large", usize::MAX),
+        ),
     ] {
-        out.push(("size overflow", expect_mesh_error(&format!("size overflow, {label}"), a, UVF_INVALID_ARGUMENT, &[&needle])));
+        out.push((
+            "size overflow",
+            expect_mesh_error(&format!("size overflow, {label}"), a, UVF_INVALID_ARGUMENT, &[&needle]),
+        ));
     }
     let uv = vec![0.5; 32];
     let (o, _) = metrics(ok, uv.as_ptr(), usize::MAX, ok.triangles);
-    assert_outcome("size overflow, uv_count (uvf_metrics)", &o, UVF_INVALID_ARGUMENT, &[&format!("uv count {} is too large", usize::MAX)]);
+    assert_outcome(
+        "size overflow, uv_count (uvf_metrics)",
+        &o,
+        UVF_INVALID_ARGUMENT,
+        &[&format!("uv count {} is too large", usize::MAX)],
+    );
     out.push(("size overflow", o.message));
     // A boundary given with an overflowing count.
     let vertices = [0u32, 1, 2];
@@ -481,23 +550,48 @@ fn class_null_pointer() -> Messages {
     }
     // NULL outputs.
     // SAFETY: valid mesh arrays, NULL output.
-    let status = unsafe { uvf_mesh_info(ok.positions, ok.vertex_count, ok.triangles, ok.triangle_count, std::ptr::null_mut()) };
+    let status =
+        unsafe { uvf_mesh_info(ok.positions, ok.vertex_count, ok.triangles, ok.triangle_count, std::ptr::null_mut()) };
     let o = Outcome { status, message: last_message() };
     assert_outcome("NULL info_out", &o, UVF_INVALID_ARGUMENT, &["info_out is NULL"]);
     out.push(("NULL pointer", o.message));
     // SAFETY: valid mesh arrays, NULL output.
     let status = unsafe {
-        uvf_natural_conformal_map(ok.positions, ok.vertex_count, ok.triangles, ok.triangle_count, std::ptr::null(), std::ptr::null_mut())
+        uvf_natural_conformal_map(
+            ok.positions,
+            ok.vertex_count,
+            ok.triangles,
+            ok.triangle_count,
+            std::ptr::null(),
+            std::ptr::null_mut(),
+        )
     };
     let o = Outcome { status, message: last_message() };
-    assert_outcome("NULL uv_out (natural conformal)", &o, UVF_INVALID_ARGUMENT, &["uv_out is NULL but 32 elements must be written"]);
+    assert_outcome(
+        "NULL uv_out (natural conformal)",
+        &o,
+        UVF_INVALID_ARGUMENT,
+        &["uv_out is NULL but 32 elements must be written"],
+    );
     out.push(("NULL pointer", o.message));
     // SAFETY: valid mesh arrays, NULL output.
     let status = unsafe {
-        uvf_fixed_boundary_map(ok.positions, ok.vertex_count, ok.triangles, ok.triangle_count, std::ptr::null(), std::ptr::null_mut())
+        uvf_fixed_boundary_map(
+            ok.positions,
+            ok.vertex_count,
+            ok.triangles,
+            ok.triangle_count,
+            std::ptr::null(),
+            std::ptr::null_mut(),
+        )
     };
     let o = Outcome { status, message: last_message() };
-    assert_outcome("NULL uv_out (fixed boundary)", &o, UVF_INVALID_ARGUMENT, &["uv_out is NULL but 32 elements must be written"]);
+    assert_outcome(
+        "NULL uv_out (fixed boundary)",
+        &o,
+        UVF_INVALID_ARGUMENT,
+        &["uv_out is NULL but 32 elements must be written"],
+    );
     out.push(("NULL pointer", o.message));
     // uvf_metrics: NULL uv, NULL out.
     let (o, _) = metrics(ok, std::ptr::null(), 16, std::ptr::null());
@@ -506,7 +600,16 @@ fn class_null_pointer() -> Messages {
     let uv = vec![0.5; 32];
     // SAFETY: valid arrays, NULL output.
     let status = unsafe {
-        uvf_metrics(ok.positions, ok.vertex_count, ok.triangles, ok.triangle_count, uv.as_ptr(), 16, std::ptr::null(), std::ptr::null_mut())
+        uvf_metrics(
+            ok.positions,
+            ok.vertex_count,
+            ok.triangles,
+            ok.triangle_count,
+            uv.as_ptr(),
+            16,
+            std::ptr::null(),
+            std::ptr::null_mut(),
+        )
     };
     let o = Outcome { status, message: last_message() };
     assert_outcome("NULL out (uvf_metrics)", &o, UVF_INVALID_ARGUMENT, &["out (UvfMetrics*) is NULL"]);
@@ -539,14 +642,24 @@ fn class_unaligned_pointer() -> Messages {
         ("positions", Args { positions: unaligned_positions, ..ok }, "positions is not aligned"),
         ("triangles", Args { triangles: unaligned_triangles, ..ok }, "triangles is not aligned"),
     ] {
-        out.push(("unaligned pointer", expect_mesh_error(&format!("unaligned {label}"), a, UVF_INVALID_ARGUMENT, &[needle])));
+        out.push((
+            "unaligned pointer",
+            expect_mesh_error(&format!("unaligned {label}"), a, UVF_INVALID_ARGUMENT, &[needle]),
+        ));
     }
     // An unaligned output: nothing may be written through it.
     let mut obytes = vec![0xabu8; 8 * 32 + 8];
     let unaligned_out = obytes[3..].as_mut_ptr() as *mut f64;
     // SAFETY: valid mesh arrays; the output is rejected before any write.
     let status = unsafe {
-        uvf_natural_conformal_map(ok.positions, ok.vertex_count, ok.triangles, ok.triangle_count, std::ptr::null(), unaligned_out)
+        uvf_natural_conformal_map(
+            ok.positions,
+            ok.vertex_count,
+            ok.triangles,
+            ok.triangle_count,
+            std::ptr::null(),
+            unaligned_out,
+        )
     };
     let o = Outcome { status, message: last_message() };
     assert_outcome("unaligned uv_out", &o, UVF_INVALID_ARGUMENT, &["uv_out is not aligned"]);
@@ -576,13 +689,19 @@ fn class_options_too_small() -> Messages {
         added_fields: [u64; 3],
     }
     let later = Later {
-        known: UvfFixedBoundaryOptions { struct_size: std::mem::size_of::<Later<UvfFixedBoundaryOptions>>(), ..Default::default() },
+        known: UvfFixedBoundaryOptions {
+            struct_size: std::mem::size_of::<Later<UvfFixedBoundaryOptions>>(),
+            ..Default::default()
+        },
         added_fields: [u64::MAX; 3],
     };
     let (o, _) = fixed(a, Some(&later.known));
     assert_outcome("larger fixed-boundary options", &o, UVF_OK, &[]);
     let later = Later {
-        known: UvfNaturalConformalOptions { struct_size: std::mem::size_of::<Later<UvfNaturalConformalOptions>>(), ..Default::default() },
+        known: UvfNaturalConformalOptions {
+            struct_size: std::mem::size_of::<Later<UvfNaturalConformalOptions>>(),
+            ..Default::default()
+        },
         added_fields: [u64::MAX; 3],
     };
     let (o, _) = conformal(a, Some(&later.known));
@@ -705,16 +824,36 @@ fn class_bad_pins() -> Messages {
     let unreferenced = m.push_vertex([9.0, 9.0, 9.0]);
     let a = Args::of(&m);
     let cases: [(&'static str, UvfNaturalConformalOptions, String); 6] = [
-        ("pin count", UvfNaturalConformalOptions { pin_count: 1, ..Default::default() }, "pin_count must be 0 or 2, not 1".into()),
-        ("same pin twice", pins([3, 3], [0.0, 0.0, 1.0, 0.0]), "the two pins must be different vertices (both are 3)".into()),
-        ("pin out of range", pins([0, 1000], [0.0, 0.0, 1.0, 0.0]), format!("pinned vertex 1000 is out of range: the mesh has {} vertices", m.nv())),
+        (
+            "pin count",
+            UvfNaturalConformalOptions { pin_count: 1, ..Default::default() },
+            "pin_count must be 0 or 2, not 1".into(),
+        ),
+        (
+            "same pin twice",
+            pins([3, 3], [0.0, 0.0, 1.0, 0.0]),
+            "the two pins must be different vertices (both are 3)".into(),
+        ),
+        (
+            "pin out of range",
+            pins([0, 1000], [0.0, 0.0, 1.0, 0.0]),
+            format!("pinned vertex 1000 is out of range: the mesh has {} vertices", m.nv()),
+        ),
         (
             "pin on unreferenced vertex",
             pins([unreferenced, 0], [0.0, 0.0, 1.0, 0.0]),
             format!("pinned vertex {unreferenced} is not used by any triangle"),
         ),
-        ("pins at the same position", pins([0, 15], [0.5, 0.5, 0.5, 0.5]), "the two pins must have different positions".into()),
-        ("non-finite pin position", pins([0, 15], [0.0, 0.0, f64::NAN, 0.0]), "pinned vertex 15 has a non-finite position".into()),
+        (
+            "pins at the same position",
+            pins([0, 15], [0.5, 0.5, 0.5, 0.5]),
+            "the two pins must have different positions".into(),
+        ),
+        (
+            "non-finite pin position",
+            pins([0, 15], [0.0, 0.0, f64::NAN, 0.0]),
+            "pinned vertex 15 has a non-finite position".into(),
+        ),
     ];
     for (class, options, needle) in cases {
         let (o, _) = conformal(a, Some(&options));
@@ -727,8 +866,11 @@ fn class_bad_pins() -> Messages {
 fn class_not_a_disk() -> Messages {
     let mut out = Vec::new();
     let cow = load("closed_g0_cow.obj");
-    let (message, info) =
-        expect_unsupported("closed mesh closed_g0_cow.obj", &cow, &["not a topological disk", "0 boundary loop(s)", "genus 0"]);
+    let (message, info) = expect_unsupported(
+        "closed mesh closed_g0_cow.obj",
+        &cow,
+        &["not a topological disk", "0 boundary loop(s)", "genus 0"],
+    );
     assert_eq!((info.boundary_loops, info.genus, info.components), (0, 0, 1), "closed_g0_cow.obj: {info:?}");
     out.push(("not a disk (closed, or genus > 0)", message));
 
@@ -889,7 +1031,10 @@ fn distinct_classes_give_distinct_messages() {
     for (class, message) in &all {
         assert!(!message.is_empty(), "{class}: empty message");
         if let Some((other, other_message)) = owner.insert(template(message), (class, message)) {
-            assert_eq!(other, *class, "classes {other:?} and {class:?} share the message template:\n  {other_message}\n  {message}");
+            assert_eq!(
+                other, *class,
+                "classes {other:?} and {class:?} share the message template:\n  {other_message}\n  {message}"
+            );
         }
     }
 }
@@ -897,7 +1042,8 @@ fn distinct_classes_give_distinct_messages() {
 #[test]
 fn pin_out_of_range_and_pin_on_unreferenced_vertex_have_distinct_messages() {
     let messages = class_bad_pins();
-    let find = |class: &str| messages.iter().find(|(c, _)| *c == class).map(|(_, m)| template(m)).expect("class present");
+    let find =
+        |class: &str| messages.iter().find(|(c, _)| *c == class).map(|(_, m)| template(m)).expect("class present");
     assert_ne!(find("pin out of range"), find("pin on unreferenced vertex"));
 }
 
@@ -910,7 +1056,8 @@ fn unreferenced_vertices_get_nan_uv() {
     let nan = m.push_vertex([f64::NAN, f64::INFINITY, 0.0]);
     let first = m.nv() as u32;
     // Also an unreferenced vertex before the referenced ones: shift every index by one.
-    let mut shifted = Raw { positions: vec![1e300, -1e300, 0.0], triangles: m.triangles.iter().map(|&v| v + 1).collect() };
+    let mut shifted =
+        Raw { positions: vec![1e300, -1e300, 0.0], triangles: m.triangles.iter().map(|&v| v + 1).collect() };
     shifted.positions.extend(&m.positions);
     let unreferenced = [0u32, far + 1, nan + 1];
     assert_eq!(shifted.nv() as u32, first + 1);
@@ -977,10 +1124,19 @@ fn progress_callback_can_cancel_and_reaches_one() {
             assert!(f.windows(2).all(|w| w[0] <= w[1]), "{label}: fractions decrease: {f:?}");
             assert!(f.iter().all(|x| (0.0..=1.0).contains(x)), "{label}: fractions outside [0, 1]: {f:?}");
             if cancel_from.is_finite() {
-                assert_outcome(&format!("{label}, cancel from {cancel_from}"), &o, UVF_CANCELLED, &["cancelled by the progress callback"]);
+                assert_outcome(
+                    &format!("{label}, cancel from {cancel_from}"),
+                    &o,
+                    UVF_CANCELLED,
+                    &["cancelled by the progress callback"],
+                );
                 let last = *f.last().unwrap();
                 assert!(last >= cancel_from, "{label}: stopped at {last} before the callback said so");
-                assert_eq!(f.iter().filter(|&&x| x >= cancel_from).count(), 1, "{label}: called again after cancelling: {f:?}");
+                assert_eq!(
+                    f.iter().filter(|&&x| x >= cancel_from).count(),
+                    1,
+                    "{label}: called again after cancelling: {f:?}"
+                );
             } else {
                 assert_outcome(&format!("{label}, never cancelled"), &o, UVF_OK, &[]);
                 assert_eq!(*f.last().unwrap(), 1.0, "{label}: the last fraction is not 1: {f:?}");
@@ -1017,5 +1173,9 @@ fn defective_mesh_files_are_rejected_with_the_defect_named() {
     let m = load("bad_unreferenced_vertices.obj");
     let (o, uv) = fixed(Args::of(&m), None);
     assert_outcome("bad_unreferenced_vertices.obj", &o, UVF_OK, &[]);
-    assert_eq!(uv.chunks(2).filter(|p| p[0].is_nan()).count(), 5, "bad_unreferenced_vertices.obj has 5 unreferenced vertices");
+    assert_eq!(
+        uv.chunks(2).filter(|p| p[0].is_nan()).count(),
+        5,
+        "bad_unreferenced_vertices.obj has 5 unreferenced vertices"
+    );
 }

@@ -50,7 +50,10 @@ fn header_compiles_as_c99_and_cpp17_without_warnings() {
     for (cpp, std, source) in [(false, "c99", "header_check.c"), (true, "c++17", "header_check.cpp")] {
         let mut command = compiler::compiler(cpp, std);
         command.args(strict).arg("-I").arg(Path::new(ROOT).join("include"));
-        command.arg("-o").arg(scratch_dir().join(format!("{source}.o"))).arg(Path::new(ROOT).join("tests/c").join(source));
+        command
+            .arg("-o")
+            .arg(scratch_dir().join(format!("{source}.o")))
+            .arg(Path::new(ROOT).join("tests/c").join(source));
         compiler::run(command).unwrap_or_else(|e| panic!("{e}"));
     }
 }
@@ -62,7 +65,11 @@ fn build_and_run_c_suite(name: &str, extra: &[&str]) {
     assert!(lib.join("libuvflat.so").exists(), "no libuvflat.so in {}", lib.display());
     let exe = scratch_dir().join(format!("{name}-{}", std::process::id()));
     let mut command = compiler::compiler(false, "c99");
-    command.args(["-Wall", "-Wextra", "-pedantic", "-Werror"]).args(extra).arg("-I").arg(Path::new(ROOT).join("include"));
+    command
+        .args(["-Wall", "-Wextra", "-pedantic", "-Werror"])
+        .args(extra)
+        .arg("-I")
+        .arg(Path::new(ROOT).join("include"));
     command.arg("-o").arg(&exe).arg(Path::new(ROOT).join("tests/c/smoke.c"));
     command.arg(format!("-L{}", lib.display())).arg(format!("-Wl,-rpath,{}", lib.display()));
     command.args(["-luvflat", "-lm"]);
@@ -82,5 +89,8 @@ fn c_program_unwraps_and_gets_documented_errors() {
 /// writes by the library into the caller's arrays and misuse of the header's types.
 #[test]
 fn c_program_is_clean_under_address_and_undefined_sanitizers() {
-    build_and_run_c_suite("smoke-asan", &["-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer"]);
+    build_and_run_c_suite(
+        "smoke-asan",
+        &["-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer"],
+    );
 }

@@ -27,10 +27,10 @@
 //! Needs libcgal-dev and libeigen3-dev: skipped without them, except under CI (`CI=true`),
 //! where their absence fails the test.
 
-#[path = "common/compiler.rs"]
-mod compiler;
 #[path = "common/cgal.rs"]
 mod cgal;
+#[path = "common/compiler.rs"]
+mod compiler;
 
 use cgal::{DiskMesh, Method, Reference};
 use std::path::Path;

@@ -76,7 +76,9 @@ fn every_listed_method_unwraps_the_sample() {
         let report = json(&uvflat(&["unwrap", SAMPLE, "-o", out.to_str().unwrap(), "--method", &name, "--json"]));
         assert_eq!(report["method"], name.as_str());
         assert_eq!(report["triangles"], 562, "{name}");
-        if ["tutte", "floater", "mean-value", "slim", "arap", "mips", "stretch", "green-lagrange", "degener"].contains(&name.as_str()) {
+        if ["tutte", "floater", "mean-value", "slim", "arap", "mips", "stretch", "green-lagrange", "degener"]
+            .contains(&name.as_str())
+        {
             assert_eq!(report["flipped"], 0, "{name} flipped a triangle with a convex boundary");
         }
     }
@@ -84,10 +86,42 @@ fn every_listed_method_unwraps_the_sample() {
 
 #[test]
 fn fixed_boundary_options_change_the_result() {
-    let square = json(&uvflat(&["unwrap", SAMPLE, "-o", scratch("sq.obj").to_str().unwrap(), "--method", "mean-value", "--boundary", "square", "--distribution", "uniform", "--json"]));
-    let circle = json(&uvflat(&["unwrap", SAMPLE, "-o", scratch("ci.obj").to_str().unwrap(), "--method", "mean-value", "--json"]));
+    let square = json(&uvflat(&[
+        "unwrap",
+        SAMPLE,
+        "-o",
+        scratch("sq.obj").to_str().unwrap(),
+        "--method",
+        "mean-value",
+        "--boundary",
+        "square",
+        "--distribution",
+        "uniform",
+        "--json",
+    ]));
+    let circle = json(&uvflat(&[
+        "unwrap",
+        SAMPLE,
+        "-o",
+        scratch("ci.obj").to_str().unwrap(),
+        "--method",
+        "mean-value",
+        "--json",
+    ]));
     assert_ne!(square["stretch_l2"], circle["stretch_l2"]);
-    let intrinsic = json(&uvflat(&["unwrap", SAMPLE, "-o", scratch("in.obj").to_str().unwrap(), "--method", "intrinsic", "--lambda", "0.5", "--mu", "0.5", "--json"]));
+    let intrinsic = json(&uvflat(&[
+        "unwrap",
+        SAMPLE,
+        "-o",
+        scratch("in.obj").to_str().unwrap(),
+        "--method",
+        "intrinsic",
+        "--lambda",
+        "0.5",
+        "--mu",
+        "0.5",
+        "--json",
+    ]));
     assert_eq!(intrinsic["method"], "intrinsic");
 }
 
@@ -95,7 +129,17 @@ fn fixed_boundary_options_change_the_result() {
 fn boundary_file_fixes_the_given_vertices() {
     // Take the boundary of a square unwrap and feed it back as a FILE: same result.
     let first = scratch("first.obj");
-    json(&uvflat(&["unwrap", SAMPLE, "-o", first.to_str().unwrap(), "--method", "conformal", "--boundary", "square", "--json"]));
+    json(&uvflat(&[
+        "unwrap",
+        SAMPLE,
+        "-o",
+        first.to_str().unwrap(),
+        "--method",
+        "conformal",
+        "--boundary",
+        "square",
+        "--json",
+    ]));
     let mesh = uvflat::io::obj::read_obj(&first).unwrap();
     let tris: Vec<[u32; 3]> = mesh.triangles.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
     let mut edges = std::collections::HashMap::new();
@@ -115,7 +159,17 @@ fn boundary_file_fixes_the_given_vertices() {
         .collect();
     std::fs::write(&file, format!("# vertex u v\n{lines}")).unwrap();
     let second = scratch("second.obj");
-    json(&uvflat(&["unwrap", SAMPLE, "-o", second.to_str().unwrap(), "--method", "conformal", "--boundary", file.to_str().unwrap(), "--json"]));
+    json(&uvflat(&[
+        "unwrap",
+        SAMPLE,
+        "-o",
+        second.to_str().unwrap(),
+        "--method",
+        "conformal",
+        "--boundary",
+        file.to_str().unwrap(),
+        "--json",
+    ]));
     let again = uvflat::io::obj::read_obj(&second).unwrap();
     let worst = mesh.uv.iter().zip(&again.uv).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(worst < 1e-12, "given boundary changed the map by {worst}");
@@ -135,7 +189,10 @@ fn pins_are_placed_where_documented() {
 fn info_reports_topology() {
     let t = json(&uvflat(&["info", &format!("{MESHES}/holes_lion.obj"), "--json"]));
     assert_eq!((t["vertices"].as_u64(), t["faces"].as_u64()), (Some(7529), Some(14859)));
-    assert_eq!((t["components"].as_u64(), t["boundary_loops"].as_u64(), t["genus"].as_u64()), (Some(1), Some(5), Some(0)));
+    assert_eq!(
+        (t["components"].as_u64(), t["boundary_loops"].as_u64(), t["genus"].as_u64()),
+        (Some(1), Some(5), Some(0))
+    );
     let text = stdout(&uvflat(&["info", SAMPLE]));
     assert!(text.contains("boundary loops  1") && text.contains("genus           0"), "{text}");
 }

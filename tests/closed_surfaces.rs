@@ -37,7 +37,10 @@ fn files(prefix: &str) -> Vec<String> {
 
 #[test]
 fn every_closed_and_multi_hole_mesh_cuts_into_a_disk_that_flattens_without_flips() {
-    println!("{:<34} {:>5} {:>7} {:>8} {:>9} {:>9} {:>9}", "mesh", "genus", "faces", "seam/E", "cut s", "MV flips", "NC flips");
+    println!(
+        "{:<34} {:>5} {:>7} {:>8} {:>9} {:>9} {:>9}",
+        "mesh", "genus", "faces", "seam/E", "cut s", "MV flips", "NC flips"
+    );
     let mut failures = Vec::new();
     for file in files("closed_").into_iter().chain(files("holes_")) {
         let mesh = load(&file);
@@ -61,10 +64,13 @@ fn every_closed_and_multi_hole_mesh_cuts_into_a_disk_that_flattens_without_flips
         assert!((0..mesh.vertex_count() as u32).all(|v| seen[v as usize] == mesh.is_referenced(v)), "{file}");
         // Flatten with mean value weights (guaranteed) and the natural conformal map (reported).
         let uv_triangles = cut.mesh.triangles().to_vec();
-        let mv = fixed_boundary_map(&cut.mesh, &FixedBoundaryOptions::default()).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let mv =
+            fixed_boundary_map(&cut.mesh, &FixedBoundaryOptions::default()).unwrap_or_else(|e| panic!("{file}: {e}"));
         let mv_flips = distortion(mesh.points(), mesh.triangles(), &mv, &uv_triangles).expect("metrics").flipped;
         let nc_flips = match natural_conformal_map(&cut.mesh, None) {
-            Ok(uv) => distortion(mesh.points(), mesh.triangles(), &uv, &uv_triangles).expect("metrics").flipped.to_string(),
+            Ok(uv) => {
+                distortion(mesh.points(), mesh.triangles(), &uv, &uv_triangles).expect("metrics").flipped.to_string()
+            }
             Err(e) => format!("err {e}"),
         };
         let ratio = cut.seam_length(&mesh) / total_edge_length(&mesh);
@@ -82,7 +88,10 @@ fn every_closed_and_multi_hole_mesh_cuts_into_a_disk_that_flattens_without_flips
 
 #[test]
 fn tutte_gnomonic_sphere_map_never_flips_on_closed_genus_zero_meshes() {
-    println!("{:<34} {:>7} {:>12} {:>12} {:>12} {:>8}", "mesh", "faces", "tutte-gnom", "gauss-seidel", "stereograph", "TG s");
+    println!(
+        "{:<34} {:>7} {:>12} {:>12} {:>12} {:>8}",
+        "mesh", "faces", "tutte-gnom", "gauss-seidel", "stereograph", "TG s"
+    );
     let mut failures = Vec::new();
     for file in files("closed_g0_") {
         let mesh = load(&file);

@@ -22,15 +22,32 @@ fn run_all(positions: &[f64], triangles: &[u32]) -> Vec<u64> {
     let mut bits = Vec::new();
     unsafe {
         let mut uv = vec![0.0; 2 * nv];
-        let s = uvf_natural_conformal_map(positions.as_ptr(), nv, triangles.as_ptr(), nt, std::ptr::null(), uv.as_mut_ptr());
+        let s = uvf_natural_conformal_map(
+            positions.as_ptr(),
+            nv,
+            triangles.as_ptr(),
+            nt,
+            std::ptr::null(),
+            uv.as_mut_ptr(),
+        );
         assert_eq!(s, UvfStatus::UVF_OK);
         let mut m = std::mem::MaybeUninit::<UvfMetrics>::uninit();
-        let s = uvf_metrics(positions.as_ptr(), nv, triangles.as_ptr(), nt, uv.as_ptr(), nv, std::ptr::null(), m.as_mut_ptr());
+        let s = uvf_metrics(
+            positions.as_ptr(),
+            nv,
+            triangles.as_ptr(),
+            nt,
+            uv.as_ptr(),
+            nv,
+            std::ptr::null(),
+            m.as_mut_ptr(),
+        );
         assert_eq!(s, UvfStatus::UVF_OK);
         let m = m.assume_init();
         bits.extend(uv.iter().map(|x| x.to_bits()));
         bits.extend([m.stretch_l2, m.conformal_mean, m.angle_mean, m.area_mean].map(f64::to_bits));
-        let s = uvf_fixed_boundary_map(positions.as_ptr(), nv, triangles.as_ptr(), nt, std::ptr::null(), uv.as_mut_ptr());
+        let s =
+            uvf_fixed_boundary_map(positions.as_ptr(), nv, triangles.as_ptr(), nt, std::ptr::null(), uv.as_mut_ptr());
         assert_eq!(s, UvfStatus::UVF_OK);
         bits.extend(uv.iter().map(|x| x.to_bits()));
     }
@@ -71,7 +88,14 @@ fn error_messages_are_per_thread() {
                 triangles[7] = 2_000_000 + i;
                 let mut uv = vec![0.0; positions.len() / 3 * 2];
                 for _ in 0..20 {
-                    let s = uvf_natural_conformal_map(positions.as_ptr(), positions.len() / 3, triangles.as_ptr(), triangles.len() / 3, std::ptr::null(), uv.as_mut_ptr());
+                    let s = uvf_natural_conformal_map(
+                        positions.as_ptr(),
+                        positions.len() / 3,
+                        triangles.as_ptr(),
+                        triangles.len() / 3,
+                        std::ptr::null(),
+                        uv.as_mut_ptr(),
+                    );
                     assert_eq!(s, UvfStatus::UVF_INVALID_MESH);
                     let message = CStr::from_ptr(uvf_last_error_message()).to_string_lossy().into_owned();
                     assert!(message.contains(&format!("{}", 2_000_000 + i)), "thread {i} saw: {message}");

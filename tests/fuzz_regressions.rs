@@ -38,7 +38,9 @@ fn is_hidden(path: &Path) -> bool {
 /// exist).
 fn files_in(dir: &Path) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = match std::fs::read_dir(dir) {
-        Ok(entries) => entries.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_file() && !is_hidden(p)).collect(),
+        Ok(entries) => {
+            entries.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_file() && !is_hidden(p)).collect()
+        }
         Err(_) => Vec::new(),
     };
     files.sort();

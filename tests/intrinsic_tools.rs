@@ -42,7 +42,11 @@ fn point_of(mesh: &TriMesh, uv: &[[f64; 2]], t: u32, b: [f64; 3]) -> [f64; 2] {
 }
 
 fn max_difference(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
-    a.iter().zip(b).filter(|(p, _)| p[0].is_finite()).map(|(p, q)| (p[0] - q[0]).abs().max((p[1] - q[1]).abs())).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .filter(|(p, _)| p[0].is_finite())
+        .map(|(p, q)| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()))
+        .fold(0.0, f64::max)
 }
 
 const WEIGHTS: [Weights; 4] =
@@ -60,7 +64,8 @@ fn a_constrained_interior_point_lands_exactly_on_its_target() {
             let start = point_of(&mesh, &free, t, b);
             let target = [start[0] + 0.02, start[1] - 0.01];
             let c = [PointConstraint { triangle: t, barycentric: b, uv: target }];
-            let uv = constrained_fixed_boundary_map(&mesh, &options, &c, &mut Progress::none()).expect("constrained map");
+            let uv =
+                constrained_fixed_boundary_map(&mesh, &options, &c, &mut Progress::none()).expect("constrained map");
             let got = point_of(&mesh, &uv, t, b);
             let error = (got[0] - target[0]).abs().max((got[1] - target[1]).abs());
             assert!(error <= 1e-9, "{file} {weights:?}: constrained point is {error:e} from its target");
@@ -78,12 +83,14 @@ fn an_already_satisfied_constraint_leaves_the_map_unchanged() {
     for file in ["disk_nefertiti_small.obj", "disk_spothead.obj"] {
         let mesh = load(file);
         for weights in WEIGHTS {
-            let options = FixedBoundaryOptions { weights, shape: BoundaryShape::Square, distribution: Distribution::Uniform };
+            let options =
+                FixedBoundaryOptions { weights, shape: BoundaryShape::Square, distribution: Distribution::Uniform };
             let free = fixed_boundary_map(&mesh, &options).expect("unconstrained map");
             let t = interior_triangle(&mesh);
             let b = [0.6, 0.1, 0.3];
             let c = [PointConstraint { triangle: t, barycentric: b, uv: point_of(&mesh, &free, t, b) }];
-            let uv = constrained_fixed_boundary_map(&mesh, &options, &c, &mut Progress::none()).expect("constrained map");
+            let uv =
+                constrained_fixed_boundary_map(&mesh, &options, &c, &mut Progress::none()).expect("constrained map");
             let d = max_difference(&uv, &free);
             assert!(d <= 1e-9, "{file} {weights:?}: satisfied constraint moved the map by {d:e}");
         }
@@ -99,7 +106,8 @@ fn conflicting_constraints_are_reported_and_redundant_ones_accepted() {
     let one = PointConstraint { triangle: t, barycentric: b, uv: [0.5, 0.5] };
     let same = PointConstraint { barycentric: [0.4, 0.6, 1.0], ..one }; // same point, scaled coordinates
     let other = PointConstraint { uv: [0.6, 0.5], ..one };
-    let uv = constrained_fixed_boundary_map(&mesh, &options, &[one, same], &mut Progress::none()).expect("redundant constraints");
+    let uv = constrained_fixed_boundary_map(&mesh, &options, &[one, same], &mut Progress::none())
+        .expect("redundant constraints");
     let got = point_of(&mesh, &uv, t, b);
     assert!((got[0] - 0.5).abs() < 1e-9 && (got[1] - 0.5).abs() < 1e-9);
     match constrained_fixed_boundary_map(&mesh, &options, &[one, other], &mut Progress::none()) {
@@ -112,7 +120,10 @@ fn conflicting_constraints_are_reported_and_redundant_ones_accepted() {
         .map(|t| t as u32);
     if let Some(bt) = boundary_triangle {
         let c = PointConstraint { triangle: bt, barycentric: [1.0, 1.0, 1.0], uv: [9.0, 9.0] };
-        assert!(matches!(constrained_fixed_boundary_map(&mesh, &options, &[c], &mut Progress::none()), Err(Error::InvalidArgument(_))));
+        assert!(matches!(
+            constrained_fixed_boundary_map(&mesh, &options, &[c], &mut Progress::none()),
+            Err(Error::InvalidArgument(_))
+        ));
     }
     // Bad input: triangle out of range, zero-sum barycentric coordinates, NaN target.
     for bad in [
@@ -120,7 +131,10 @@ fn conflicting_constraints_are_reported_and_redundant_ones_accepted() {
         PointConstraint { barycentric: [1.0, -1.0, 0.0], ..one },
         PointConstraint { uv: [f64::NAN, 0.0], ..one },
     ] {
-        assert!(matches!(constrained_fixed_boundary_map(&mesh, &options, &[bad], &mut Progress::none()), Err(Error::InvalidArgument(_))));
+        assert!(matches!(
+            constrained_fixed_boundary_map(&mesh, &options, &[bad], &mut Progress::none()),
+            Err(Error::InvalidArgument(_))
+        ));
     }
 }
 
@@ -155,23 +169,37 @@ fn more_than_two_pins_are_honoured_and_satisfied_ones_change_nothing() {
     let uv = pinned_natural_conformal_map(&mesh, &four, &mut Progress::none()).expect("4 pins");
     for (p, target) in &four {
         let got = uv[*p as usize];
-        assert!((got[0] - target[0]).abs().max((got[1] - target[1]).abs()) <= 1e-9 * scale, "pin {p}: {got:?} vs {target:?}");
+        assert!(
+            (got[0] - target[0]).abs().max((got[1] - target[1]).abs()) <= 1e-9 * scale,
+            "pin {p}: {got:?} vs {target:?}"
+        );
     }
     // An interior point constraint together with two pins.
     let b = [0.25, 0.25, 0.5];
     let target = [0.4 * scale, 0.15 * scale];
-    let mut c: Vec<PointConstraint> =
-        pins.iter().map(|&(v, uv)| uvflat::methods::constraints::vertex_constraint(&mesh, v, uv).expect("pin")).collect();
+    let mut c: Vec<PointConstraint> = pins
+        .iter()
+        .map(|&(v, uv)| uvflat::methods::constraints::vertex_constraint(&mesh, v, uv).expect("pin"))
+        .collect();
     c.push(PointConstraint { triangle: t, barycentric: b, uv: target });
     let uv = constrained_natural_conformal_map(&mesh, &c, &mut Progress::none()).expect("constrained");
     let got = point_of(&mesh, &uv, t, b);
     assert!((got[0] - target[0]).abs().max((got[1] - target[1]).abs()) <= 1e-9 * scale);
     // Too few or collapsing constraints are refused.
-    assert!(matches!(pinned_natural_conformal_map(&mesh, &pins[..1], &mut Progress::none()), Err(Error::InvalidArgument(_))));
+    assert!(matches!(
+        pinned_natural_conformal_map(&mesh, &pins[..1], &mut Progress::none()),
+        Err(Error::InvalidArgument(_))
+    ));
     let same: Vec<Pin> = vec![(pins[0].0, [1.0, 1.0]), (pins[1].0, [1.0, 1.0])];
-    assert!(matches!(pinned_natural_conformal_map(&mesh, &same, &mut Progress::none()), Err(Error::InvalidArgument(_))));
+    assert!(matches!(
+        pinned_natural_conformal_map(&mesh, &same, &mut Progress::none()),
+        Err(Error::InvalidArgument(_))
+    ));
     let conflicting: Vec<Pin> = vec![pins[0], pins[1], (pins[1].0, [0.0, 5.0])];
-    assert!(matches!(pinned_natural_conformal_map(&mesh, &conflicting, &mut Progress::none()), Err(Error::InvalidArgument(_))));
+    assert!(matches!(
+        pinned_natural_conformal_map(&mesh, &conflicting, &mut Progress::none()),
+        Err(Error::InvalidArgument(_))
+    ));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -193,14 +221,19 @@ fn star_boundary(editor: &BoundaryEditor, phase: f64) -> Vec<[f64; 2]> {
 
 #[test]
 fn editor_solve_equals_a_fresh_fixed_boundary_solve_and_the_green_basis_sum() {
-    for (file, lambda, mu) in [("disk_nefertiti_small.obj", 1.0, 0.0), ("disk_nefertiti_small.obj", 0.3, 0.7), ("holes_annulus.obj", 0.5, 0.5)] {
+    for (file, lambda, mu) in [
+        ("disk_nefertiti_small.obj", 1.0, 0.0),
+        ("disk_nefertiti_small.obj", 0.3, 0.7),
+        ("holes_annulus.obj", 0.5, 0.5),
+    ] {
         let mesh = load(file);
         let editor = BoundaryEditor::new(&mesh, lambda, mu, &mut Progress::none()).expect("editor");
         let basis = editor.green_basis(1 << 30, &mut Progress::none()).expect("basis");
         for phase in [0.0, 1.0] {
             let boundary = star_boundary(&editor, phase);
             let uv = editor.solve(&boundary).expect("editor solve");
-            let given: Vec<(u32, [f64; 2])> = editor.boundary_vertices().iter().copied().zip(boundary.iter().copied()).collect();
+            let given: Vec<(u32, [f64; 2])> =
+                editor.boundary_vertices().iter().copied().zip(boundary.iter().copied()).collect();
             let options = FixedBoundaryOptions {
                 weights: Weights::Intrinsic { lambda, mu },
                 shape: BoundaryShape::Given(given),
@@ -224,12 +257,15 @@ fn editor_solve_equals_a_fresh_fixed_boundary_solve_and_the_green_basis_sum() {
 fn concurrent_editor_solves_agree_with_sequential_ones() {
     let mesh = load("disk_spothead.obj");
     let editor = BoundaryEditor::new(&mesh, 1.0, 0.0, &mut Progress::none()).expect("editor");
-    let expected: Vec<Vec<[f64; 2]>> = (0..4).map(|k| editor.solve(&star_boundary(&editor, k as f64)).expect("solve")).collect();
+    let expected: Vec<Vec<[f64; 2]>> =
+        (0..4).map(|k| editor.solve(&star_boundary(&editor, k as f64)).expect("solve")).collect();
     std::thread::scope(|s| {
-        let handles: Vec<_> = (0..4).map(|k| {
-            let editor = &editor;
-            s.spawn(move || editor.solve(&star_boundary(editor, k as f64)).expect("solve"))
-        }).collect();
+        let handles: Vec<_> = (0..4)
+            .map(|k| {
+                let editor = &editor;
+                s.spawn(move || editor.solve(&star_boundary(editor, k as f64)).expect("solve"))
+            })
+            .collect();
         for (k, h) in handles.into_iter().enumerate() {
             let d = max_difference(&h.join().expect("thread"), &expected[k]);
             assert!(d <= 1e-12, "concurrent solve {k} differs by {d:e}");

@@ -17,9 +17,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use uvflat::error::Error;
-use uvflat::methods::nonlinear::{
-    nonlinear_map, nonlinear_map_with_progress, NonlinearMethod, NonlinearOptions,
-};
+use uvflat::methods::nonlinear::{nonlinear_map, nonlinear_map_with_progress, NonlinearMethod, NonlinearOptions};
 use uvflat::metrics::distortion;
 use uvflat::progress::Progress;
 use uvflat::TriMesh;
@@ -37,8 +35,7 @@ const METHODS: [NonlinearMethod; 6] = [
 ];
 
 fn face_count(path: &Path) -> usize {
-    let text = std::fs::read_to_string(path)
-        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     text.lines().filter(|l| l.starts_with("f ")).count()
 }
 
@@ -59,8 +56,7 @@ fn disk_meshes() -> Vec<(usize, String)> {
 }
 
 fn load(file: &str) -> TriMesh {
-    let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(file))
-        .unwrap_or_else(|e| panic!("{file}: {e}"));
+    let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
     TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"))
 }
 
@@ -104,13 +100,7 @@ fn every_method_is_flip_free_and_monotone_on_every_disk_mesh() {
                 result.iterations
             );
             let bad = non_positive_triangles(&mesh, &result.uv);
-            let m = distortion(
-                mesh.points(),
-                mesh.triangles(),
-                &result.uv,
-                mesh.triangles(),
-            )
-            .expect("metrics");
+            let m = distortion(mesh.points(), mesh.triangles(), &result.uv, mesh.triangles()).expect("metrics");
             if bad != 0 || m.flipped != 0 || m.degenerate_uv != 0 {
                 failures.push(format!(
                     "{file} {method:?}: {bad} non-positive, {} flipped, {} degenerate",
@@ -118,15 +108,10 @@ fn every_method_is_flip_free_and_monotone_on_every_disk_mesh() {
                 ));
             }
             if let Some(w) = result.energy.windows(2).find(|w| !(w[1] <= w[0])) {
-                failures.push(format!(
-                    "{file} {method:?}: energy increased {} -> {}",
-                    w[0], w[1]
-                ));
+                failures.push(format!("{file} {method:?}: energy increased {} -> {}", w[0], w[1]));
             }
             if !(e1 < e0) || result.iterations == 0 {
-                failures.push(format!(
-                    "{file} {method:?}: energy did not decrease ({e0} -> {e1})"
-                ));
+                failures.push(format!("{file} {method:?}: energy did not decrease ({e0} -> {e1})"));
             }
         }
     }
@@ -158,14 +143,7 @@ fn flat_wobbly_disk() -> TriMesh {
     }
     for r in 1..rings {
         for s in 0..sectors {
-            triangles.extend([
-                id(r, s),
-                id(r + 1, s),
-                id(r + 1, s + 1),
-                id(r, s),
-                id(r + 1, s + 1),
-                id(r, s + 1),
-            ]);
+            triangles.extend([id(r, s), id(r + 1, s), id(r + 1, s + 1), id(r, s), id(r + 1, s + 1), id(r, s + 1)]);
         }
     }
     TriMesh::new(&positions, &triangles).expect("valid disk")
@@ -198,19 +176,10 @@ fn a_cancelling_callback_stops_within_one_iteration() {
             calls += 1;
             calls < 5
         };
-        let result = nonlinear_map_with_progress(
-            &mesh,
-            &NonlinearOptions::new(method),
-            &mut Progress::new(&mut callback),
-        );
-        assert!(
-            matches!(result, Err(Error::Cancelled)),
-            "{method:?}: {result:?}"
-        );
-        assert_eq!(
-            calls, 5,
-            "{method:?}: the callback was called after it cancelled"
-        );
+        let result =
+            nonlinear_map_with_progress(&mesh, &NonlinearOptions::new(method), &mut Progress::new(&mut callback));
+        assert!(matches!(result, Err(Error::Cancelled)), "{method:?}: {result:?}");
+        assert_eq!(calls, 5, "{method:?}: the callback was called after it cancelled");
     }
 }
 
@@ -223,9 +192,7 @@ fn results_are_deterministic() {
         let a = nonlinear_map(&mesh, &options).expect("map");
         let b = nonlinear_map(&mesh, &options).expect("map");
         assert!(
-            a.uv.iter()
-                .zip(&b.uv)
-                .all(|(p, q)| p[0].to_bits() == q[0].to_bits() && p[1].to_bits() == q[1].to_bits()),
+            a.uv.iter().zip(&b.uv).all(|(p, q)| p[0].to_bits() == q[0].to_bits() && p[1].to_bits() == q[1].to_bits()),
             "{method:?}"
         );
     }
@@ -236,14 +203,8 @@ fn invalid_options_are_rejected() {
     let mesh = flat_wobbly_disk();
     let mut options = NonlinearOptions::new(NonlinearMethod::Degener);
     options.theta = 0.0;
-    assert!(matches!(
-        nonlinear_map(&mesh, &options),
-        Err(Error::InvalidArgument(_))
-    ));
+    assert!(matches!(nonlinear_map(&mesh, &options), Err(Error::InvalidArgument(_))));
     let mut options = NonlinearOptions::new(NonlinearMethod::Slim);
     options.tolerance = f64::NAN;
-    assert!(matches!(
-        nonlinear_map(&mesh, &options),
-        Err(Error::InvalidArgument(_))
-    ));
+    assert!(matches!(nonlinear_map(&mesh, &options), Err(Error::InvalidArgument(_))));
 }

@@ -28,7 +28,9 @@ use std::sync::{Arc, Mutex, OnceLock};
 use uvflat::error::{Error, UvfStatus};
 use uvflat::methods::conformal::{default_pins, Pin};
 use uvflat::metrics::{distortion, Metrics};
-use uvflat::{fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, FixedBoundaryOptions, TriMesh, Weights};
+use uvflat::{
+    fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, FixedBoundaryOptions, TriMesh, Weights,
+};
 
 const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
 const MAX_FACES: usize = 100_000;
@@ -51,7 +53,8 @@ impl Mesh {
         self.triangles.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
     }
     fn trimesh(&self) -> TriMesh {
-        TriMesh::new(&self.positions, &self.triangles).unwrap_or_else(|e| panic!("{}: TriMesh::new failed: {e}", self.name))
+        TriMesh::new(&self.positions, &self.triangles)
+            .unwrap_or_else(|e| panic!("{}: TriMesh::new failed: {e}", self.name))
     }
     fn metrics(&self, uv: &[[f64; 2]]) -> Metrics {
         let tris = self.tris();
@@ -187,7 +190,10 @@ fn planar_from_mean_value_map(file: &str) -> Planar {
         .unwrap_or_else(|e| panic!("{file}: mean value map failed: {e}"));
     let coords: Vec<[f64; 2]> = uv.iter().map(|p| [7.0 * p[0] - 2.0, 7.0 * p[1] + 1.0]).collect();
     let points: Vec<[f64; 3]> = coords.iter().map(|p| [p[0], p[1], 0.0]).collect();
-    Planar { mesh: Mesh::from_points(format!("planar mean value map of {file}"), &points, source.triangles.clone()), coords }
+    Planar {
+        mesh: Mesh::from_points(format!("planar mean value map of {file}"), &points, source.triangles.clone()),
+        coords,
+    }
 }
 
 /// A mesh file that is already planar (z = 0).
@@ -236,8 +242,11 @@ fn flat_mesh_is_its_own_parameterization() {
         let is_interior = |v: usize| tri.is_referenced(v as u32) && !tri.is_boundary_vertex(v as u32);
 
         let [(a, _), (b, _)] = default_pins(&tri);
-        let uv = natural_conformal_map(&tri, None).unwrap_or_else(|e| panic!("{}: natural conformal map failed: {e}", mesh.name));
-        let (err, v) = max_relative_difference(&normalize_by(&uv, a, b), &normalize_by(coords, a, b), |v| tri.is_referenced(v as u32));
+        let uv = natural_conformal_map(&tri, None)
+            .unwrap_or_else(|e| panic!("{}: natural conformal map failed: {e}", mesh.name));
+        let (err, v) = max_relative_difference(&normalize_by(&uv, a, b), &normalize_by(coords, a, b), |v| {
+            tri.is_referenced(v as u32)
+        });
         if !(err <= TOL) {
             failures.push(format!(
                 "{}: natural conformal map differs from the input similarity by {err:.2e} (relative) at vertex {v}",
@@ -245,7 +254,8 @@ fn flat_mesh_is_its_own_parameterization() {
             ));
         }
 
-        let given: Vec<(u32, [f64; 2])> = tri.boundary_loops().iter().flatten().map(|&v| (v, coords[v as usize])).collect();
+        let given: Vec<(u32, [f64; 2])> =
+            tri.boundary_loops().iter().flatten().map(|&v| (v, coords[v as usize])).collect();
         for (label, weights) in [
             ("discrete harmonic (DCP)", Weights::Conformal),
             ("Floater", Weights::Floater),
@@ -304,7 +314,9 @@ fn check_positive_weights_do_not_flip(shape_label: &str, shape: impl Fn() -> Bou
         let mesh = load(file);
         let tri = mesh.trimesh();
         let expected_genus = NOT_GENUS_ZERO.iter().find(|(f, _)| f == file).map(|&(_, g)| g);
-        for (label, weights) in [("Tutte", Weights::Uniform), ("Floater", Weights::Floater), ("mean value", Weights::MeanValue)] {
+        for (label, weights) in
+            [("Tutte", Weights::Uniform), ("Floater", Weights::Floater), ("mean value", Weights::MeanValue)]
+        {
             match (fixed_boundary_map(&tri, &options(weights, shape())), expected_genus) {
                 (Ok(uv), None) => {
                     let m = mesh.metrics(&uv);
@@ -314,7 +326,8 @@ fn check_positive_weights_do_not_flip(shape_label: &str, shape: impl Fn() -> Bou
                     let dividing = if shape_label == "square" { dividing_edges(&tri, &uv) } else { 0 };
                     let tris = mesh.tris();
                     let flipped = flipped_triangles(&tris, &uv);
-                    let collapsed = flipped.iter().filter(|&&t| on_one_square_side(tris[t].map(|v| uv[v as usize]))).count();
+                    let collapsed =
+                        flipped.iter().filter(|&&t| on_one_square_side(tris[t].map(|v| uv[v as usize]))).count();
                     let line = format!(
                         "{file}: {label} weights, {shape_label} boundary: {} flipped triangles {:?} ({dividing} dividing edges, {collapsed} flips collapsed onto a side)",
                         m.flipped,
@@ -334,12 +347,18 @@ fn check_positive_weights_do_not_flip(shape_label: &str, shape: impl Fn() -> Bou
                     );
                     rejected.push(file.as_str());
                 }
-                (Ok(_), Some(genus)) => panic!("{file} has genus {genus} but {label} weights on the {shape_label} accepted it"),
+                (Ok(_), Some(genus)) => {
+                    panic!("{file} has genus {genus} but {label} weights on the {shape_label} accepted it")
+                }
                 (Err(e), None) => panic!("{file}: {label} weights, {shape_label} boundary failed: {e}"),
             }
         }
     }
-    assert!(failures.is_empty(), "convex-boundary maps with positive weights flipped triangles:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "convex-boundary maps with positive weights flipped triangles:\n{}",
+        failures.join("\n")
+    );
     for (file, _) in NOT_GENUS_ZERO {
         assert!(rejected.contains(&file), "{file} was not checked (missing from {MESH_DIR}?)");
     }
@@ -371,7 +390,9 @@ fn dividing_edges(tri: &TriMesh, uv: &[[f64; 2]]) -> usize {
 /// Whether every point lies within roundoff of one and the same side line of the unit square.
 fn on_one_square_side(q: [[f64; 2]; 3]) -> bool {
     const EPS: f64 = 1e-12;
-    [(0, 0.0), (0, 1.0), (1, 0.0), (1, 1.0)].iter().any(|&(axis, value)| q.iter().all(|p| (p[axis] - value).abs() <= EPS))
+    [(0, 0.0), (0, 1.0), (1, 0.0), (1, 1.0)]
+        .iter()
+        .any(|&(axis, value)| q.iter().all(|p| (p[axis] - value).abs() <= EPS))
 }
 
 fn flipped_triangles(tris: &[[u32; 3]], uv: &[[f64; 2]]) -> Vec<usize> {
@@ -392,9 +413,12 @@ fn natural_conformal_is_invariant_to_rotation_and_scale() {
     const TOL: f64 = 1e-8;
     let r = rotation([0.8, 0.1, -0.55], 2.3);
     let mut failures = Vec::new();
-    for file in ["disk_nefertiti_small.obj", "disk_lilium.obj", "disk_spothead.obj", "disk_camelhead.obj", "holes_lion.obj"] {
+    for file in
+        ["disk_nefertiti_small.obj", "disk_lilium.obj", "disk_spothead.obj", "disk_camelhead.obj", "holes_lion.obj"]
+    {
         let mesh = load(file);
-        let moved_points: Vec<[f64; 3]> = mesh.points().iter().map(|&p| transform(&r, 3.7, [4.0, -1.0, 2.5], p)).collect();
+        let moved_points: Vec<[f64; 3]> =
+            mesh.points().iter().map(|&p| transform(&r, 3.7, [4.0, -1.0, 2.5], p)).collect();
         let moved = Mesh::from_points(format!("rotated and scaled {file}"), &moved_points, mesh.triangles.clone());
         let (tri, moved_tri) = (mesh.trimesh(), moved.trimesh());
 
@@ -404,9 +428,12 @@ fn natural_conformal_is_invariant_to_rotation_and_scale() {
         let uv = natural_conformal_map(&tri, None).unwrap_or_else(|e| panic!("{file}: {e}"));
         let moved_uv = natural_conformal_map(&moved_tri, None).unwrap_or_else(|e| panic!("{}: {e}", moved.name));
         let reference = normalize_by(&uv, a, b);
-        let (err, v) = max_relative_difference(&normalize_by(&moved_uv, a, b), &reference, |v| tri.is_referenced(v as u32));
+        let (err, v) =
+            max_relative_difference(&normalize_by(&moved_uv, a, b), &reference, |v| tri.is_referenced(v as u32));
         if !(err <= TOL) {
-            failures.push(format!("{file}: natural conformal (default pins) changes by {err:.2e} (relative) at vertex {v}"));
+            failures.push(format!(
+                "{file}: natural conformal (default pins) changes by {err:.2e} (relative) at vertex {v}"
+            ));
         }
         // The same pin vertices and positions on both: no similarity to remove.
         let pins: [Pin; 2] = [(a, [0.2, -0.1]), (b, [1.3, 0.6])];
@@ -414,12 +441,14 @@ fn natural_conformal_is_invariant_to_rotation_and_scale() {
         let moved_uv = natural_conformal_map(&moved_tri, Some(pins)).unwrap_or_else(|e| panic!("{}: {e}", moved.name));
         let (err, v) = max_relative_difference(&moved_uv, &uv, |v| tri.is_referenced(v as u32));
         if !(err <= TOL) {
-            failures.push(format!("{file}: natural conformal (same pins) changes by {err:.2e} (relative) at vertex {v}"));
+            failures
+                .push(format!("{file}: natural conformal (same pins) changes by {err:.2e} (relative) at vertex {v}"));
         }
 
         let dcp = options(Weights::Conformal, BoundaryShape::Circle);
         let uv = fixed_boundary_map(&tri, &dcp).unwrap_or_else(|e| panic!("{file}: DCP failed: {e}"));
-        let moved_uv = fixed_boundary_map(&moved_tri, &dcp).unwrap_or_else(|e| panic!("{}: DCP failed: {e}", moved.name));
+        let moved_uv =
+            fixed_boundary_map(&moved_tri, &dcp).unwrap_or_else(|e| panic!("{}: DCP failed: {e}", moved.name));
         let (err, v) = max_relative_difference(&moved_uv, &uv, |v| tri.is_referenced(v as u32));
         if !(err <= TOL) {
             failures.push(format!("{file}: DCP on the circle changes by {err:.2e} (relative) at vertex {v}"));
@@ -450,7 +479,8 @@ fn conformal_maps_are_nearly_conformal() {
         let tri = mesh.trimesh();
         let conformal = mesh.metrics(&natural_conformal_map(&tri, None).unwrap_or_else(|e| panic!("{file}: {e}")));
         let tutte = mesh.metrics(
-            &fixed_boundary_map(&tri, &options(Weights::Uniform, BoundaryShape::Circle)).unwrap_or_else(|e| panic!("{file}: {e}")),
+            &fixed_boundary_map(&tri, &options(Weights::Uniform, BoundaryShape::Circle))
+                .unwrap_or_else(|e| panic!("{file}: {e}")),
         );
         let holds = conformal.conformal_mean < tutte.conformal_mean;
         let exception = LESS_CONFORMAL_THAN_TUTTE.contains(&file.as_str());
@@ -460,11 +490,18 @@ fn conformal_maps_are_nearly_conformal() {
                 conformal.conformal_mean,
                 conformal.flipped,
                 tutte.conformal_mean,
-                if exception { "now below Tutte's; remove it from LESS_CONFORMAL_THAN_TUTTE" } else { "not below Tutte's" }
+                if exception {
+                    "now below Tutte's; remove it from LESS_CONFORMAL_THAN_TUTTE"
+                } else {
+                    "not below Tutte's"
+                }
             ));
         }
         if exception {
-            assert!(conformal.flipped > 0, "{file}: listed as an exception because the map folds, but it has no flips now");
+            assert!(
+                conformal.flipped > 0,
+                "{file}: listed as an exception because the map folds, but it has no flips now"
+            );
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
@@ -559,12 +596,15 @@ fn natural_conformal_map_is_the_conformal_energy_minimiser() {
             failures.push(format!("{file}: E_C = {energy:e} < 0"));
         }
         for (label, weights) in [("Tutte", Weights::Uniform), ("DCP", Weights::Conformal)] {
-            let other = fixed_boundary_map(&tri, &options(weights, BoundaryShape::Circle)).unwrap_or_else(|e| panic!("{file}: {e}"));
+            let other = fixed_boundary_map(&tri, &options(weights, BoundaryShape::Circle))
+                .unwrap_or_else(|e| panic!("{file}: {e}"));
             // z ↦ pa + (z − other_a)·(pb − pa)/(other_b − other_a)
             let normalized = normalize_by(&other, a, b);
             let d = [pb[0] - pa[0], pb[1] - pa[1]];
-            let moved: Vec<[f64; 2]> =
-                normalized.iter().map(|z| [pa[0] + z[0] * d[0] - z[1] * d[1], pa[1] + z[0] * d[1] + z[1] * d[0]]).collect();
+            let moved: Vec<[f64; 2]> = normalized
+                .iter()
+                .map(|z| [pa[0] + z[0] * d[0] - z[1] * d[1], pa[1] + z[0] * d[1] + z[1] * d[0]])
+                .collect();
             let other_energy = conformal_energy(&mesh, &tri, &moved).energy;
             if !(energy <= other_energy + 1e-12 * magnitude) {
                 failures.push(format!(
@@ -580,7 +620,10 @@ fn natural_conformal_map_is_the_conformal_energy_minimiser() {
 /// (orientation is judged against the majority) and count a single folded vertex.
 #[test]
 fn metrics_are_exact_on_similarities_and_count_flips() {
-    for planar in [planar_from_mean_value_map("disk_nefertiti_small.obj"), tilted(planar_from_mean_value_map("disk_cat_head.obj"))] {
+    for planar in [
+        planar_from_mean_value_map("disk_nefertiti_small.obj"),
+        tilted(planar_from_mean_value_map("disk_cat_head.obj")),
+    ] {
         let (mesh, coords) = (&planar.mesh, &planar.coords);
         let name = &mesh.name;
         let (s, c) = 0.7f64.sin_cos();
@@ -593,8 +636,16 @@ fn metrics_are_exact_on_similarities_and_count_flips() {
         assert_eq!(m.boundary_intersections, 0, "{name}: boundary crossings in a similarity: {m:?}");
         assert!(near(m.stretch_l2, 1.0), "{name}: stretch_l2 of a similarity is {} (expected 1)", m.stretch_l2);
         assert!(near(m.stretch_linf, 1.0), "{name}: stretch_linf of a similarity is {} (expected 1)", m.stretch_linf);
-        assert!(near(m.conformal_mean, 1.0), "{name}: conformal_mean of a similarity is {} (expected 1)", m.conformal_mean);
-        assert!(near(m.conformal_max, 1.0), "{name}: conformal_max of a similarity is {} (expected 1)", m.conformal_max);
+        assert!(
+            near(m.conformal_mean, 1.0),
+            "{name}: conformal_mean of a similarity is {} (expected 1)",
+            m.conformal_mean
+        );
+        assert!(
+            near(m.conformal_max, 1.0),
+            "{name}: conformal_max of a similarity is {} (expected 1)",
+            m.conformal_max
+        );
         assert!(near(m.area_mean, 0.0), "{name}: area_mean of a similarity is {} (expected 0)", m.area_mean);
         assert!(near(m.area_max, 0.0), "{name}: area_max of a similarity is {} (expected 0)", m.area_max);
         assert!(near(m.angle_mean, 0.0), "{name}: angle_mean of a similarity is {} (expected 0)", m.angle_mean);
@@ -606,7 +657,10 @@ fn metrics_are_exact_on_similarities_and_count_flips() {
         let mm = mesh.metrics(&mirrored);
         assert_eq!(mm.flipped, 0, "{name}: a mirrored similarity reports {} flipped triangles", mm.flipped);
         assert!(
-            near(mm.stretch_l2, 1.0) && near(mm.conformal_mean, 1.0) && near(mm.angle_max, 0.0) && near(mm.area_mean, 0.0),
+            near(mm.stretch_l2, 1.0)
+                && near(mm.conformal_mean, 1.0)
+                && near(mm.angle_max, 0.0)
+                && near(mm.area_mean, 0.0),
             "{name}: mirroring changed the distortion: {mm:?}"
         );
 
@@ -623,7 +677,10 @@ fn metrics_are_exact_on_similarities_and_count_flips() {
         let mut folded = similar.clone();
         folded[v] = reflect_across_line(similar[v], similar[a], similar[b]);
         let mf = mesh.metrics(&folded);
-        assert!(mf.flipped >= 1, "{name}: reflecting vertex {v} across edge ({a}, {b}) of triangle {t} flipped nothing: {mf:?}");
+        assert!(
+            mf.flipped >= 1,
+            "{name}: reflecting vertex {v} across edge ({a}, {b}) of triangle {t} flipped nothing: {mf:?}"
+        );
         let mf_mirrored = mesh.metrics(&folded.iter().map(|p| [-p[0], p[1]]).collect::<Vec<_>>());
         assert_eq!(mf_mirrored.flipped, mf.flipped, "{name}: mirroring a folded map changed the flip count");
     }
@@ -665,7 +722,10 @@ fn holes_are_filled_without_flips() {
         }
         let m = mesh.metrics(&uv);
         if m.flipped != 0 || m.boundary_intersections != 0 {
-            failures.push(format!("{file}: {} flipped triangles, {} boundary crossings", m.flipped, m.boundary_intersections));
+            failures.push(format!(
+                "{file}: {} flipped triangles, {} boundary crossings",
+                m.flipped, m.boundary_intersections
+            ));
         }
         checked += 1;
     }

@@ -461,7 +461,8 @@ thread_local! {
 /// How often each entry point returned each status on this thread since the last call (the
 /// replay test prints it, to show how deep the kept inputs reach).
 pub fn take_status_counts() -> Vec<(String, String, usize)> {
-    STATUS_COUNTS.with(|c| std::mem::take(&mut *c.borrow_mut()))
+    STATUS_COUNTS
+        .with(|c| std::mem::take(&mut *c.borrow_mut()))
         .into_iter()
         .map(|((call, status), n)| (call, status, n))
         .collect()
@@ -547,9 +548,7 @@ fn loops_of(mesh: &Mesh) -> Vec<Vec<u32>> {
         return Vec::new();
     }
     let (v, o) = (verts.values(), offs.values());
-    o.windows(2)
-        .filter_map(|w| v.get(w[0] as usize..w[1] as usize).map(<[u32]>::to_vec))
-        .collect()
+    o.windows(2).filter_map(|w| v.get(w[0] as usize..w[1] as usize).map(<[u32]>::to_vec)).collect()
 }
 
 fn check_mesh_queries(mesh: &Mesh, r: &mut Reader) -> Result<(), String> {
@@ -566,13 +565,15 @@ fn check_mesh_queries(mesh: &Mesh, r: &mut Reader) -> Result<(), String> {
         // The other queries validate the same way and must fail the same way.
         let (s2, verts, offs) = boundary_loops(mesh, 8, 8);
         if s2 != status || !verts.untouched() || !offs.untouched() {
-            return Err(format!("uvf_boundary_loops on an invalid mesh: {s2:?} (mesh_info said {status:?}), outputs touched: {}", !(verts.untouched() && offs.untouched())));
+            return Err(format!(
+                "uvf_boundary_loops on an invalid mesh: {s2:?} (mesh_info said {status:?}), outputs touched: {}",
+                !(verts.untouched() && offs.untouched())
+            ));
         }
         let mut comp = OutU32::new(nt);
         // SAFETY: the arrays hold the stated counts.
-        let s3 = unsafe {
-            uvf_triangle_components(mesh.positions.as_ptr(), nv, mesh.triangles.as_ptr(), nt, comp.ptr())
-        };
+        let s3 =
+            unsafe { uvf_triangle_components(mesh.positions.as_ptr(), nv, mesh.triangles.as_ptr(), nt, comp.ptr()) };
         if s3 != status || !comp.untouched() {
             return Err(format!("uvf_triangle_components on an invalid mesh: {s3:?} (mesh_info said {status:?})"));
         }
@@ -582,7 +583,9 @@ fn check_mesh_queries(mesh: &Mesh, r: &mut Reader) -> Result<(), String> {
     let used = mesh.referenced();
     let referenced = used.iter().filter(|&&u| u).count();
     if info.vertices != nv || info.triangles != nt || info.referenced_vertices != referenced {
-        return Err(format!("uvf_mesh_info counts {info:?} for {nv} vertices ({referenced} referenced), {nt} triangles"));
+        return Err(format!(
+            "uvf_mesh_info counts {info:?} for {nv} vertices ({referenced} referenced), {nt} triangles"
+        ));
     }
     let chi = info.referenced_vertices as i64 - info.edges as i64 + info.triangles as i64;
     if info.euler_characteristic != chi
@@ -623,7 +626,10 @@ fn check_mesh_queries(mesh: &Mesh, r: &mut Reader) -> Result<(), String> {
     }
     if shrink {
         if s != UvfStatus::UVF_INVALID_ARGUMENT || !verts.untouched() || !offs.untouched() {
-            return Err(format!("uvf_boundary_loops with too small capacities ({vcap}, {ocap}): {s:?}, outputs untouched: {}", verts.untouched() && offs.untouched()));
+            return Err(format!(
+                "uvf_boundary_loops with too small capacities ({vcap}, {ocap}): {s:?}, outputs untouched: {}",
+                verts.untouched() && offs.untouched()
+            ));
         }
     } else if !ok {
         return Err(format!("uvf_boundary_loops failed on a valid mesh: {s:?}: {}", last_message()));
@@ -942,7 +948,10 @@ fn check_fixed_boundary(mesh: &Mesh, r: &mut Reader) -> Result<(), String> {
             }
             let got = &values[2 * v as usize..2 * v as usize + 2];
             if !same_bits(got, &given.uv[2 * i..2 * i + 2]) {
-                return Err(format!("given boundary vertex {v} got uv {got:?} instead of {:?}", &given.uv[2 * i..2 * i + 2]));
+                return Err(format!(
+                    "given boundary vertex {v} got uv {got:?} instead of {:?}",
+                    &given.uv[2 * i..2 * i + 2]
+                ));
             }
         }
     }
@@ -973,7 +982,8 @@ fn check_natural_conformal(mesh: &Mesh, r: &mut Reader) -> Result<(), String> {
         0 | 1 => {
             let boundary: Vec<u32> = loops_of(mesh).concat();
             if !boundary.is_empty() {
-                options.pin_vertices = [boundary[r.u16() as usize % boundary.len()], boundary[r.u16() as usize % boundary.len()]];
+                options.pin_vertices =
+                    [boundary[r.u16() as usize % boundary.len()], boundary[r.u16() as usize % boundary.len()]];
             }
         }
         // Any vertex, in range or not, referenced or not, interior or boundary.
@@ -1037,7 +1047,10 @@ fn check_natural_conformal(mesh: &Mesh, r: &mut Reader) -> Result<(), String> {
             let v = options.pin_vertices[k] as usize;
             let (u, w) = (values[2 * v], values[2 * v + 1]);
             if u.to_bits() != options.pin_uv[2 * k].to_bits() || w.to_bits() != options.pin_uv[2 * k + 1].to_bits() {
-                return Err(format!("pinned vertex {v} got uv ({u}, {w}) instead of {:?}", &options.pin_uv[2 * k..2 * k + 2]));
+                return Err(format!(
+                    "pinned vertex {v} got uv ({u}, {w}) instead of {:?}",
+                    &options.pin_uv[2 * k..2 * k + 2]
+                ));
             }
         }
     }
@@ -1078,9 +1091,23 @@ fn method_uv(mesh: &Mesh, which: u8) -> Option<Vec<f64>> {
     // SAFETY: the arrays hold the stated counts; NULL options are the defaults.
     let status = unsafe {
         if which == 0 {
-            uvf_natural_conformal_map(mesh.positions.as_ptr(), mesh.vertex_count(), mesh.triangles.as_ptr(), mesh.triangle_count(), std::ptr::null(), out.ptr())
+            uvf_natural_conformal_map(
+                mesh.positions.as_ptr(),
+                mesh.vertex_count(),
+                mesh.triangles.as_ptr(),
+                mesh.triangle_count(),
+                std::ptr::null(),
+                out.ptr(),
+            )
         } else {
-            uvf_fixed_boundary_map(mesh.positions.as_ptr(), mesh.vertex_count(), mesh.triangles.as_ptr(), mesh.triangle_count(), std::ptr::null(), out.ptr())
+            uvf_fixed_boundary_map(
+                mesh.positions.as_ptr(),
+                mesh.vertex_count(),
+                mesh.triangles.as_ptr(),
+                mesh.triangle_count(),
+                std::ptr::null(),
+                out.ptr(),
+            )
         }
     };
     (status == UvfStatus::UVF_OK).then(|| out.values().to_vec())
@@ -1093,7 +1120,8 @@ fn check_metrics(mesh: &Mesh, r: &mut Reader) -> Result<(), String> {
     // their own triangles.
     let (mut uv, uv_count, uv_triangles): (Vec<f64>, usize, Option<Vec<u32>>) = match mode {
         0 | 1 => {
-            let uv = method_uv(mesh, mode).unwrap_or_else(|| mesh.positions.chunks_exact(3).flat_map(|p| [p[0], p[1]]).collect());
+            let uv = method_uv(mesh, mode)
+                .unwrap_or_else(|| mesh.positions.chunks_exact(3).flat_map(|p| [p[0], p[1]]).collect());
             (uv, nv, None)
         }
         2 => (mesh.positions.chunks_exact(3).flat_map(|p| [p[0], p[2]]).collect(), nv, None),

@@ -9,12 +9,12 @@ use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use uvflat::io::obj::{read_obj, write_obj_with_corner_uv, write_obj_with_uv, ObjMesh};
-use uvflat::mesh::cut::{cut_to_disk, total_edge_length, EdgeCost};
-use uvflat::methods::sphere::{spherical_map, SphereMethod, SphereOptions};
 use uvflat::io::svg::write_uv_svg;
+use uvflat::mesh::cut::{cut_to_disk, total_edge_length, EdgeCost};
 use uvflat::methods::abf::{abf, AbfOptions, AbfVariant};
 use uvflat::methods::conformal::Pin;
 use uvflat::methods::nonlinear::{nonlinear_map, NonlinearMethod, NonlinearOptions};
+use uvflat::methods::sphere::{spherical_map, SphereMethod, SphereOptions};
 use uvflat::metrics::{distortion, Metrics};
 use uvflat::{
     fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, Error, FixedBoundaryOptions, TriMesh,
@@ -195,7 +195,11 @@ const METHODS: [(MethodName, &str, &str); 15] = [
     (MethodName::Arap, "arap", "free boundary, as-rigid-as-possible local-global (Liu et al. 2008); never flips"),
     (MethodName::Mips, "mips", "free boundary, MIPS conformal energy (Hormann & Greiner 2000); never flips"),
     (MethodName::Stretch, "stretch", "free boundary, L2 stretch (Sander et al. 2001); never flips"),
-    (MethodName::GreenLagrange, "green-lagrange", "free boundary, Green-Lagrange tensor (Maillot et al. 1993); never flips"),
+    (
+        MethodName::GreenLagrange,
+        "green-lagrange",
+        "free boundary, Green-Lagrange tensor (Maillot et al. 1993); never flips",
+    ),
     (MethodName::Degener, "degener", "free boundary, Degener et al. 2003 angle x area^theta energy; never flips"),
     (MethodName::Abf, "abf", "free boundary, angle based flattening, full Newton (Sheffer & de Sturler 2001)"),
     (MethodName::AbfPlusPlus, "abf++", "free boundary, ABF++ Gauss-Newton + LSCM reconstruction (Sheffer et al. 2005)"),
@@ -274,12 +278,15 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
     let start = Instant::now();
     let mesh = TriMesh::new(&obj.positions, &obj.triangles)
         .map_err(|e| Failure { message: format!("{}: {e}", args.input.display()), usage: false })?;
-    let cut_mode = args.cut.unwrap_or(if mesh.require_disk_with_holes().is_ok() { CutMode::None } else { CutMode::Auto });
+    let cut_mode =
+        args.cut.unwrap_or(if mesh.require_disk_with_holes().is_ok() { CutMode::None } else { CutMode::Auto });
     let cut = match cut_mode {
         CutMode::None => None,
         CutMode::Auto => {
             if !args.pins.is_empty() || args.boundary.as_deref().is_some_and(|b| b != "circle" && b != "square") {
-                return Err(usage("--pin and a boundary file name vertices of the input; they cannot be combined with a cut"));
+                return Err(usage(
+                    "--pin and a boundary file name vertices of the input; they cannot be combined with a cut",
+                ));
             }
             Some(cut_to_disk(&mesh, &EdgeCost::default())?)
         }
@@ -392,10 +399,15 @@ fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
     let free = matches!(args.method, MethodName::NaturalConformal | MethodName::Abf | MethodName::AbfPlusPlus);
     let nonlinear = args.method.nonlinear().is_some();
     if (free || nonlinear) && (args.boundary.is_some() || args.distribution.is_some()) {
-        return Err(usage(format!("--boundary and --distribution apply to fixed-boundary methods, not {}", method_label(args.method))));
+        return Err(usage(format!(
+            "--boundary and --distribution apply to fixed-boundary methods, not {}",
+            method_label(args.method)
+        )));
     }
     if !nonlinear && args.iterations.is_some() {
-        return Err(usage("--iterations applies to the non-linear methods (slim, arap, mips, stretch, green-lagrange, degener)"));
+        return Err(usage(
+            "--iterations applies to the non-linear methods (slim, arap, mips, stretch, green-lagrange, degener)",
+        ));
     }
     if args.method != MethodName::Degener && args.theta.is_some() {
         return Err(usage("--theta applies to --method degener only"));
@@ -442,7 +454,9 @@ fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<Vec<[f64; 2]>, Failur
         | MethodName::Mips
         | MethodName::Stretch
         | MethodName::GreenLagrange
-        | MethodName::Degener => return Err(Failure { message: "internal: non-linear method not dispatched".into(), usage: false }),
+        | MethodName::Degener => {
+            return Err(Failure { message: "internal: non-linear method not dispatched".into(), usage: false })
+        }
         MethodName::Tutte => Weights::Uniform,
         MethodName::Floater => Weights::Floater,
         MethodName::Authalic => Weights::Authalic,
@@ -507,7 +521,10 @@ fn read_boundary_file(path: &Path) -> Result<Vec<(u32, [f64; 2])>, Failure> {
 fn print_metrics(path: &Path, json: bool) -> Result<(), Failure> {
     let obj = read_obj(path)?;
     if obj.uv.is_empty() {
-        return Err(Failure { message: format!("{} has no texture coordinates (`vt` lines)", path.display()), usage: false });
+        return Err(Failure {
+            message: format!("{} has no texture coordinates (`vt` lines)", path.display()),
+            usage: false,
+        });
     }
     if obj.uv_triangles.len() != obj.triangles.len() {
         return Err(Failure {
@@ -534,11 +551,7 @@ fn print_metrics_text(m: &Metrics) {
     println!("  boundary intersections  {}", m.boundary_intersections);
     println!("  stretch L2 / Linf       {:.4} / {:.4}", m.stretch_l2, m.stretch_linf);
     println!("  conformal mean / max    {:.4} / {:.4}", m.conformal_mean, m.conformal_max);
-    println!(
-        "  angle error mean / max  {:.3}° / {:.3}°",
-        m.angle_mean.to_degrees(),
-        m.angle_max.to_degrees()
-    );
+    println!("  angle error mean / max  {:.3}° / {:.3}°", m.angle_mean.to_degrees(), m.angle_max.to_degrees());
     println!("  area |log| mean / max   {:.4} / {:.4}", m.area_mean, m.area_max);
 }
 

@@ -108,39 +108,20 @@ pub unsafe extern "C" fn uvf_abf(
     report_out: *mut UvfAbfReport,
 ) -> UvfStatus {
     guard(|| {
-        let o = read_options(
-            options,
-            UvfAbfOptions::default(),
-            ABF_OPTIONS_V1,
-            "UvfAbfOptions",
-        )?;
+        let o = read_options(options, UvfAbfOptions::default(), ABF_OPTIONS_V1, "UvfAbfOptions")?;
         let variant = match o.variant {
             UVF_ABF_VARIANT_ABF => AbfVariant::Abf,
             UVF_ABF_VARIANT_ABF_PLUS_PLUS => AbfVariant::AbfPlusPlus,
-            v => {
-                return Err(Error::InvalidArgument(format!(
-                    "unknown ABF variant {v}; use one of UVF_ABF_VARIANT_*"
-                )))
-            }
+            v => return Err(Error::InvalidArgument(format!("unknown ABF variant {v}; use one of UVF_ABF_VARIANT_*"))),
         };
         let pins: Option<[Pin; 2]> = match o.pin_count {
             0 => None,
-            2 => Some([
-                (o.pin_vertices[0], [o.pin_uv[0], o.pin_uv[1]]),
-                (o.pin_vertices[1], [o.pin_uv[2], o.pin_uv[3]]),
-            ]),
-            n => {
-                return Err(Error::InvalidArgument(format!(
-                    "pin_count must be 0 or 2, not {n}"
-                )))
+            2 => {
+                Some([(o.pin_vertices[0], [o.pin_uv[0], o.pin_uv[1]]), (o.pin_vertices[1], [o.pin_uv[2], o.pin_uv[3]])])
             }
+            n => return Err(Error::InvalidArgument(format!("pin_count must be 0 or 2, not {n}"))),
         };
-        let options = AbfOptions {
-            variant,
-            max_iterations: o.max_iterations,
-            tolerance: o.tolerance,
-            pins,
-        };
+        let options = AbfOptions { variant, max_iterations: o.max_iterations, tolerance: o.tolerance, pins };
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let result = abf_with_progress(&mesh, &options, &mut Progress::new(&mut callback))?;

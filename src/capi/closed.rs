@@ -29,7 +29,11 @@ pub struct UvfCutOptions {
 
 impl Default for UvfCutOptions {
     fn default() -> Self {
-        UvfCutOptions { struct_size: std::mem::size_of::<Self>(), cost: UVF_CUT_COST_CURVATURE, edge_cost: std::ptr::null() }
+        UvfCutOptions {
+            struct_size: std::mem::size_of::<Self>(),
+            cost: UVF_CUT_COST_CURVATURE,
+            edge_cost: std::ptr::null(),
+        }
     }
 }
 
@@ -101,9 +105,9 @@ pub unsafe extern "C" fn uvf_cut_to_disk(
         let cost = match o.cost {
             UVF_CUT_COST_CURVATURE => EdgeCost::CurvatureWeightedLength,
             UVF_CUT_COST_LENGTH => EdgeCost::Length,
-            UVF_CUT_COST_GIVEN => {
-                EdgeCost::PerHalfedge(borrow_slice(o.edge_cost, checked_count(triangle_count, 3, "edge cost")?, "edge_cost")?.to_vec())
-            }
+            UVF_CUT_COST_GIVEN => EdgeCost::PerHalfedge(
+                borrow_slice(o.edge_cost, checked_count(triangle_count, 3, "edge cost")?, "edge_cost")?.to_vec(),
+            ),
             c => return Err(Error::InvalidArgument(format!("unknown cut cost {c}; use one of UVF_CUT_COST_*"))),
         };
         let cut = cut_to_disk(&mesh, &cost)?;
@@ -128,7 +132,10 @@ unsafe fn handle<'a>(cut: *const UvfCut) -> Result<&'a UvfCut> {
 /// Copies `values` into a caller array that must hold at least `values.len()` elements.
 fn copy_out<T: Copy>(values: &[T], out: *mut T, capacity: usize, what: &'static str) -> Result<()> {
     if capacity < values.len() {
-        return Err(Error::InvalidArgument(format!("{what} holds {capacity} elements but {} are needed", values.len())));
+        return Err(Error::InvalidArgument(format!(
+            "{what} holds {capacity} elements but {} are needed",
+            values.len()
+        )));
     }
     borrow_slice_mut(out, values.len(), what)?.copy_from_slice(values);
     Ok(())
@@ -169,7 +176,11 @@ pub unsafe extern "C" fn uvf_cut_copy_edges(cut: *const UvfCut, edges_out: *mut 
 /// # Safety
 /// `cut` must be a live handle or NULL; `triangles_out` must hold `capacity` elements.
 #[no_mangle]
-pub unsafe extern "C" fn uvf_cut_copy_triangles(cut: *const UvfCut, triangles_out: *mut u32, capacity: usize) -> UvfStatus {
+pub unsafe extern "C" fn uvf_cut_copy_triangles(
+    cut: *const UvfCut,
+    triangles_out: *mut u32,
+    capacity: usize,
+) -> UvfStatus {
     guard(|| {
         let c = unsafe { handle(cut) }?;
         let flat: Vec<u32> = c.cut.triangles.iter().flatten().copied().collect();
@@ -183,7 +194,11 @@ pub unsafe extern "C" fn uvf_cut_copy_triangles(cut: *const UvfCut, triangles_ou
 /// # Safety
 /// `cut` must be a live handle or NULL; `original_out` must hold `capacity` elements.
 #[no_mangle]
-pub unsafe extern "C" fn uvf_cut_copy_original_vertices(cut: *const UvfCut, original_out: *mut u32, capacity: usize) -> UvfStatus {
+pub unsafe extern "C" fn uvf_cut_copy_original_vertices(
+    cut: *const UvfCut,
+    original_out: *mut u32,
+    capacity: usize,
+) -> UvfStatus {
     guard(|| {
         let c = unsafe { handle(cut) }?;
         copy_out(&c.cut.original, original_out, capacity, "original_out")
@@ -196,7 +211,11 @@ pub unsafe extern "C" fn uvf_cut_copy_original_vertices(cut: *const UvfCut, orig
 /// # Safety
 /// `cut` must be a live handle or NULL; `positions_out` must hold `capacity` elements.
 #[no_mangle]
-pub unsafe extern "C" fn uvf_cut_copy_positions(cut: *const UvfCut, positions_out: *mut f64, capacity: usize) -> UvfStatus {
+pub unsafe extern "C" fn uvf_cut_copy_positions(
+    cut: *const UvfCut,
+    positions_out: *mut f64,
+    capacity: usize,
+) -> UvfStatus {
     guard(|| {
         let c = unsafe { handle(cut) }?;
         let flat: Vec<f64> = c.cut.mesh.points().iter().flatten().copied().collect();

@@ -3,9 +3,14 @@
 //! (spectral conformal, near-optimal λ, boundary optimization) return `UVF_NOT_IMPLEMENTED`.
 
 use super::methods::UvfFixedBoundaryOptions;
-use super::{borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv, UvfProgressFn};
+use super::{
+    borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv,
+    UvfProgressFn,
+};
 use crate::error::{Error, Result, UvfStatus};
-use crate::methods::constraints::{constrained_fixed_boundary_map, constrained_natural_conformal_map, pinned_natural_conformal_map, PointConstraint};
+use crate::methods::constraints::{
+    constrained_fixed_boundary_map, constrained_natural_conformal_map, pinned_natural_conformal_map, PointConstraint,
+};
 use crate::methods::intrinsic::BoundaryEditor;
 use crate::progress::Progress;
 use std::os::raw::c_void;
@@ -38,7 +43,11 @@ pub struct UvfIntrinsicToolOptions {
 
 impl Default for UvfIntrinsicToolOptions {
     fn default() -> Self {
-        UvfIntrinsicToolOptions { struct_size: std::mem::size_of::<Self>(), progress: None, progress_user: std::ptr::null_mut() }
+        UvfIntrinsicToolOptions {
+            struct_size: std::mem::size_of::<Self>(),
+            progress: None,
+            progress_user: std::ptr::null_mut(),
+        }
     }
 }
 
@@ -88,7 +97,12 @@ pub unsafe extern "C" fn uvf_constrained_fixed_boundary_map(
     uv_out: *mut f64,
 ) -> UvfStatus {
     guard(|| {
-        let o = read_options(options, UvfFixedBoundaryOptions::default(), std::mem::size_of::<UvfFixedBoundaryOptions>(), "UvfFixedBoundaryOptions")?;
+        let o = read_options(
+            options,
+            UvfFixedBoundaryOptions::default(),
+            std::mem::size_of::<UvfFixedBoundaryOptions>(),
+            "UvfFixedBoundaryOptions",
+        )?;
         let opts = super::methods::fixed_options_from(&o)?;
         let c = constraints_from(constraints, constraint_count)?;
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
@@ -246,7 +260,8 @@ pub unsafe extern "C" fn uvf_boundary_editor_boundary(
         let count = borrow_slice_mut(count_out, 1, "count_out")?;
         count[0] = e.boundary_vertices().len();
         if !vertices_out.is_null() {
-            borrow_slice_mut(vertices_out, e.boundary_vertices().len(), "vertices_out")?.copy_from_slice(e.boundary_vertices());
+            borrow_slice_mut(vertices_out, e.boundary_vertices().len(), "vertices_out")?
+                .copy_from_slice(e.boundary_vertices());
         }
         Ok(())
     })
@@ -291,7 +306,11 @@ pub unsafe extern "C" fn uvf_boundary_editor_solve(
 /// # Safety
 /// `editor` must be a live editor; `basis_out` must hold b·n doubles.
 #[no_mangle]
-pub unsafe extern "C" fn uvf_boundary_editor_basis(editor: *const UvfBoundaryEditor, max_bytes: usize, basis_out: *mut f64) -> UvfStatus {
+pub unsafe extern "C" fn uvf_boundary_editor_basis(
+    editor: *const UvfBoundaryEditor,
+    max_bytes: usize,
+    basis_out: *mut f64,
+) -> UvfStatus {
     guard(|| {
         let e = editor_ref(editor)?;
         let basis = e.green_basis(max_bytes, &mut Progress::none())?;

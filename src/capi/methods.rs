@@ -1,6 +1,8 @@
 //! Parameterization methods.
 
-use super::{borrow_slice, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv, UvfProgressFn};
+use super::{
+    borrow_slice, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv, UvfProgressFn,
+};
 use crate::boundary::{BoundaryShape, Distribution};
 use crate::error::{Error, Result, UvfStatus};
 use crate::methods::barycentric::{fixed_boundary_map_with_progress, FixedBoundaryOptions, Weights};
@@ -201,7 +203,11 @@ pub unsafe extern "C" fn uvf_fixed_boundary_map(
 ) -> UvfStatus {
     guard(|| {
         let o = read_options(options, UvfFixedBoundaryOptions::default(), FIXED_OPTIONS_V1, "UvfFixedBoundaryOptions")?;
-        let opts = FixedBoundaryOptions { weights: weights_from(&o)?, shape: shape_from(&o)?, distribution: distribution_from(&o)? };
+        let opts = FixedBoundaryOptions {
+            weights: weights_from(&o)?,
+            shape: shape_from(&o)?,
+            distribution: distribution_from(&o)?,
+        };
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let uv = fixed_boundary_map_with_progress(&mesh, &opts, &mut Progress::new(&mut callback))?;
@@ -227,10 +233,17 @@ pub unsafe extern "C" fn uvf_natural_conformal_map(
     uv_out: *mut f64,
 ) -> UvfStatus {
     guard(|| {
-        let o = read_options(options, UvfNaturalConformalOptions::default(), CONFORMAL_OPTIONS_V1, "UvfNaturalConformalOptions")?;
+        let o = read_options(
+            options,
+            UvfNaturalConformalOptions::default(),
+            CONFORMAL_OPTIONS_V1,
+            "UvfNaturalConformalOptions",
+        )?;
         let pins: Option<[Pin; 2]> = match o.pin_count {
             0 => None,
-            2 => Some([(o.pin_vertices[0], [o.pin_uv[0], o.pin_uv[1]]), (o.pin_vertices[1], [o.pin_uv[2], o.pin_uv[3]])]),
+            2 => {
+                Some([(o.pin_vertices[0], [o.pin_uv[0], o.pin_uv[1]]), (o.pin_vertices[1], [o.pin_uv[2], o.pin_uv[3]])])
+            }
             n => return Err(Error::InvalidArgument(format!("pin_count must be 0 or 2, not {n}"))),
         };
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;

@@ -7,13 +7,13 @@
 //! outputs are left untouched when a call fails.
 
 pub mod abf;
+pub mod closed;
 pub mod errors;
 pub mod intrinsic;
 pub mod mesh;
 pub mod methods;
 pub mod metrics;
 pub mod nonlinear;
-pub mod closed;
 
 use crate::error::{Error, Result, UvfStatus};
 use crate::TriMesh;

@@ -93,11 +93,7 @@ fn method_from(code: u32) -> Result<NonlinearMethod> {
         UVF_NONLINEAR_STRETCH => NonlinearMethod::Stretch,
         UVF_NONLINEAR_GREEN_LAGRANGE => NonlinearMethod::GreenLagrange,
         UVF_NONLINEAR_DEGENER => NonlinearMethod::Degener,
-        m => {
-            return Err(Error::InvalidArgument(format!(
-                "unknown method {m}; use one of UVF_NONLINEAR_*"
-            )))
-        }
+        m => return Err(Error::InvalidArgument(format!("unknown method {m}; use one of UVF_NONLINEAR_*"))),
     })
 }
 
@@ -139,12 +135,7 @@ pub unsafe extern "C" fn uvf_nonlinear_map(
     report_out: *mut UvfNonlinearReport,
 ) -> UvfStatus {
     guard(|| {
-        let o = read_options(
-            options,
-            UvfNonlinearOptions::default(),
-            NONLINEAR_OPTIONS_V1,
-            "UvfNonlinearOptions",
-        )?;
+        let o = read_options(options, UvfNonlinearOptions::default(), NONLINEAR_OPTIONS_V1, "UvfNonlinearOptions")?;
         let mut opts = NonlinearOptions::new(method_from(o.method)?);
         opts.iterations = o.iterations as usize;
         opts.tolerance = o.tolerance;
@@ -152,9 +143,7 @@ pub unsafe extern "C" fn uvf_nonlinear_map(
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         if (report_out as usize) % std::mem::align_of::<UvfNonlinearReport>() != 0 {
-            return Err(Error::InvalidArgument(
-                "report_out is not aligned for UvfNonlinearReport".into(),
-            ));
+            return Err(Error::InvalidArgument("report_out is not aligned for UvfNonlinearReport".into()));
         }
         let result = nonlinear_map_with_progress(&mesh, &opts, &mut Progress::new(&mut callback))?;
         write_uv(&result.uv, uv_out)?;

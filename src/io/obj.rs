@@ -53,20 +53,12 @@ impl ObjMesh {
 pub fn read_obj(path: &Path) -> Result<ObjMesh, Error> {
     let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
     let text = String::from_utf8_lossy(&bytes);
-    parse_obj(&text).map_err(|message| Error::Io {
-        path: path.display().to_string(),
-        message,
-    })
+    parse_obj(&text).map_err(|message| Error::Io { path: path.display().to_string(), message })
 }
 
 /// Writes a mesh with one uv per vertex: `v` lines, one `vt` per vertex, `f a/a b/b c/c`. A uv
 /// with a NaN (or infinite) coordinate is written as `vt 0 0` after a comment saying so.
-pub fn write_obj_with_uv(
-    path: &Path,
-    positions: &[f64],
-    triangles: &[u32],
-    uv: &[[f64; 2]],
-) -> Result<(), Error> {
+pub fn write_obj_with_uv(path: &Path, positions: &[f64], triangles: &[u32], uv: &[[f64; 2]]) -> Result<(), Error> {
     let vertices = validate_positions(positions)?;
     if uv.len() != vertices {
         return Err(Error::InvalidArgument(format!(
@@ -75,9 +67,7 @@ pub fn write_obj_with_uv(
         )));
     }
     validate_triangles(triangles, vertices, "vertex")?;
-    write_file(path, |out| {
-        write_obj_to(out, positions, triangles, uv, triangles)
-    })
+    write_file(path, |out| write_obj_to(out, positions, triangles, uv, triangles))
 }
 
 /// Writes a mesh with per-corner uv: `uv_triangles[3t + k]` indexes the uv of corner k of
@@ -99,9 +89,7 @@ pub fn write_obj_with_corner_uv(
         )));
     }
     validate_triangles(uv_triangles, uv.len(), "uv")?;
-    write_file(path, |out| {
-        write_obj_to(out, positions, triangles, uv, uv_triangles)
-    })
+    write_file(path, |out| write_obj_to(out, positions, triangles, uv, uv_triangles))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -159,16 +147,10 @@ fn parse_numbers<'a>(
 ) -> Result<Vec<f64>, String> {
     let numbers = words
         .take(max)
-        .map(|w| {
-            w.parse::<f64>()
-                .map_err(|_| format!("`{w}` is not a number"))
-        })
+        .map(|w| w.parse::<f64>().map_err(|_| format!("`{w}` is not a number")))
         .collect::<Result<Vec<f64>, String>>()?;
     if numbers.len() < min {
-        return Err(format!(
-            "{what} needs {min} coordinates, found {}",
-            numbers.len()
-        ));
+        return Err(format!("{what} needs {min} coordinates, found {}", numbers.len()));
     }
     Ok(numbers)
 }
@@ -185,28 +167,17 @@ fn parse_corner(word: &str) -> Result<Corner, String> {
 
 fn parse_index(text: &str, corner: &str) -> Result<i64, String> {
     match text.parse::<i64>() {
-        Ok(0) => Err(format!(
-            "face corner `{corner}` has index 0 (OBJ indices start at 1)"
-        )),
+        Ok(0) => Err(format!("face corner `{corner}` has index 0 (OBJ indices start at 1)")),
         Ok(i) => Ok(i),
         Err(_) => Err(format!("face corner `{corner}` is not an index")),
     }
 }
 
 impl ObjParser {
-    fn add_face<'a>(
-        &mut self,
-        line: usize,
-        words: impl Iterator<Item = &'a str>,
-    ) -> Result<(), String> {
-        let corners = words
-            .map(parse_corner)
-            .collect::<Result<Vec<Corner>, String>>()?;
+    fn add_face<'a>(&mut self, line: usize, words: impl Iterator<Item = &'a str>) -> Result<(), String> {
+        let corners = words.map(parse_corner).collect::<Result<Vec<Corner>, String>>()?;
         if corners.len() < 3 {
-            return Err(format!(
-                "a face needs at least 3 corners, found {}",
-                corners.len()
-            ));
+            return Err(format!("a face needs at least 3 corners, found {}", corners.len()));
         }
         let vertex_count = self.mesh.positions.len() / 3;
         let uv_count = self.mesh.uv.len() / 2;
@@ -223,9 +194,7 @@ impl ObjParser {
             self.first_face_with_uv = self.first_face_with_uv.or(Some(line));
         }
         for k in 1..corners.len() - 1 {
-            self.mesh
-                .triangles
-                .extend([vertices[0], vertices[k], vertices[k + 1]]);
+            self.mesh.triangles.extend([vertices[0], vertices[k], vertices[k + 1]]);
             if uvs.len() == corners.len() {
                 self.mesh.uv_triangles.extend([uvs[0], uvs[k], uvs[k + 1]]);
             }
@@ -234,34 +203,20 @@ impl ObjParser {
     }
 
     /// 0-based index of a 1-based (or negative, relative to the `count` read so far) OBJ index.
-    fn resolve(
-        &mut self,
-        line: usize,
-        index: i64,
-        count: usize,
-        kind: &'static str,
-    ) -> Result<u32, String> {
+    fn resolve(&mut self, line: usize, index: i64, count: usize, kind: &'static str) -> Result<u32, String> {
         let resolved = if index > 0 {
             usize::try_from(index - 1).ok()
         } else {
-            usize::try_from(index.unsigned_abs())
-                .ok()
-                .and_then(|back| count.checked_sub(back))
+            usize::try_from(index.unsigned_abs()).ok().and_then(|back| count.checked_sub(back))
         };
         let Some(resolved) = resolved else {
-            return Err(format!(
-                "{kind} index {index} is before the first {kind} ({count} so far)"
-            ));
+            return Err(format!("{kind} index {index} is before the first {kind} ({count} so far)"));
         };
         let Ok(narrow) = u32::try_from(resolved) else {
             return Err(format!("{kind} index {index} does not fit in 32 bits"));
         };
         if resolved >= count {
-            self.forward.push(ForwardReference {
-                line,
-                index: resolved,
-                kind,
-            });
+            self.forward.push(ForwardReference { line, index: resolved, kind });
         }
         Ok(narrow)
     }
@@ -270,11 +225,7 @@ impl ObjParser {
         let vertex_count = self.mesh.positions.len() / 3;
         let uv_count = self.mesh.uv.len() / 2;
         for f in &self.forward {
-            let count = if f.kind == "vertex" {
-                vertex_count
-            } else {
-                uv_count
-            };
+            let count = if f.kind == "vertex" { vertex_count } else { uv_count };
             if f.index >= count {
                 return Err(format!(
                     "line {}: face uses {} {} but the file has only {count}",
@@ -302,17 +253,10 @@ impl ObjParser {
 
 fn validate_positions(positions: &[f64]) -> Result<usize, Error> {
     if positions.len() % 3 != 0 {
-        return Err(Error::InvalidArgument(format!(
-            "positions has {} numbers, not a multiple of 3",
-            positions.len()
-        )));
+        return Err(Error::InvalidArgument(format!("positions has {} numbers, not a multiple of 3", positions.len())));
     }
     if let Some(i) = positions.iter().position(|x| !x.is_finite()) {
-        return Err(Error::InvalidArgument(format!(
-            "vertex {} has a non-finite coordinate ({})",
-            i / 3,
-            positions[i]
-        )));
+        return Err(Error::InvalidArgument(format!("vertex {} has a non-finite coordinate ({})", i / 3, positions[i])));
     }
     Ok(positions.len() / 3)
 }
@@ -334,10 +278,7 @@ fn validate_triangles(indices: &[u32], count: usize, kind: &str) -> Result<(), E
     }
 }
 
-fn write_file(
-    path: &Path,
-    write: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
-) -> Result<(), Error> {
+fn write_file(path: &Path, write: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>) -> Result<(), Error> {
     let file = File::create(path).map_err(|e| io_error(path, e))?;
     let mut out = BufWriter::with_capacity(1 << 16, file);
     write(&mut out).map_err(|e| io_error(path, e))?;
@@ -366,27 +307,12 @@ fn write_obj_to(
         if t.iter().all(|x| x.is_finite()) {
             writeln!(out, "vt {} {}", Number(t[0]), Number(t[1]))?;
         } else {
-            writeln!(
-                out,
-                "# texture coordinate {} is undefined ({}, {}), written as 0 0",
-                i + 1,
-                t[0],
-                t[1]
-            )?;
+            writeln!(out, "# texture coordinate {} is undefined ({}, {}), written as 0 0", i + 1, t[0], t[1])?;
             writeln!(out, "vt 0 0")?;
         }
     }
     for (f, t) in triangles.chunks_exact(3).zip(uv_triangles.chunks_exact(3)) {
-        writeln!(
-            out,
-            "f {}/{} {}/{} {}/{}",
-            f[0] + 1,
-            t[0] + 1,
-            f[1] + 1,
-            t[1] + 1,
-            f[2] + 1,
-            t[2] + 1
-        )?;
+        writeln!(out, "f {}/{} {}/{} {}/{}", f[0] + 1, t[0] + 1, f[1] + 1, t[1] + 1, f[2] + 1, t[2] + 1)?;
     }
     Ok(())
 }
@@ -406,10 +332,7 @@ impl Display for Number {
 }
 
 fn io_error(path: &Path, e: std::io::Error) -> Error {
-    Error::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    }
+    Error::Io { path: path.display().to_string(), message: e.to_string() }
 }
 
 #[cfg(test)]
@@ -424,11 +347,7 @@ mod tests {
     /// A test mesh from `shared/meshes`, which sits beside the crate's repository.
     fn shared_mesh(name: &str) -> PathBuf {
         let beside = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes");
-        let dir = if beside.is_dir() {
-            beside
-        } else {
-            PathBuf::from("/work/shared/meshes")
-        };
+        let dir = if beside.is_dir() { beside } else { PathBuf::from("/work/shared/meshes") };
         dir.join(name)
     }
 
@@ -441,10 +360,7 @@ mod tests {
         write_obj_with_uv(&path, &positions, &triangles, &uv).unwrap();
         let mesh = read_obj(&path).unwrap();
         // Another reader (tobj) understands the file too.
-        let options = tobj::LoadOptions {
-            single_index: true,
-            ..Default::default()
-        };
+        let options = tobj::LoadOptions { single_index: true, ..Default::default() };
         let (models, _) = tobj::load_obj(&path, &options).unwrap();
         std::fs::remove_file(&path).ok();
         assert_eq!(models[0].mesh.indices.len(), 6);
@@ -459,14 +375,7 @@ mod tests {
     fn per_corner_uv_survives_a_round_trip() {
         let positions = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0];
         let triangles = [0, 1, 2, 0, 2, 3];
-        let uv = [
-            [0.0, 0.0],
-            [1.0, 0.0],
-            [1.0, 1.0],
-            [5.0, 5.0],
-            [6.0, 6.0],
-            [5.0, 6.0],
-        ];
+        let uv = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [5.0, 5.0], [6.0, 6.0], [5.0, 6.0]];
         let uv_triangles = [0, 1, 2, 3, 4, 5];
         let path = scratch_file("per-corner.obj");
         write_obj_with_corner_uv(&path, &positions, &triangles, &uv, &uv_triangles).unwrap();
@@ -480,16 +389,7 @@ mod tests {
 
     #[test]
     fn numbers_are_written_in_shortest_round_trip_form() {
-        let values = [
-            1e-300,
-            -2.5e-7,
-            0.1,
-            1.0 / 3.0,
-            123456.789,
-            9.87654321e20,
-            -0.0,
-            7.0,
-        ];
+        let values = [1e-300, -2.5e-7, 0.1, 1.0 / 3.0, 123456.789, 9.87654321e20, -0.0, 7.0];
         let mut positions = values.to_vec();
         positions.push(0.0);
         let mut out = Vec::new();
@@ -543,10 +443,7 @@ mod tests {
         assert!(mesh.uv.is_empty() && mesh.uv_triangles.is_empty());
         assert_eq!(&mesh.positions[..3], &[-0.008298, 0.583053, 0.070454]);
         // Same triangles, corner for corner, as tobj reads them (tobj renumbers and uses f32).
-        let options = tobj::LoadOptions {
-            triangulate: true,
-            ..Default::default()
-        };
+        let options = tobj::LoadOptions { triangulate: true, ..Default::default() };
         let (models, _) = tobj::load_obj(&path, &options).unwrap();
         let theirs: Vec<[f32; 3]> = models
             .iter()
@@ -584,14 +481,8 @@ mod tests {
             ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "3 corners"),
             ("v 0 0\n", "line 1"),
             ("v 0 zero 0\n", "`zero`"),
-            (
-                "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\nf 1 2 3\n",
-                "line 6",
-            ),
-            (
-                "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n",
-                "texture coordinate 2",
-            ),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\nf 1 2 3\n", "line 6"),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n", "texture coordinate 2"),
         ];
         for (text, expected) in cases {
             match parse_obj(text) {
@@ -605,10 +496,7 @@ mod tests {
             Err(Error::Io { message, .. }) => assert!(message.starts_with("line "), "{message}"),
             other => panic!("{other:?}"),
         }
-        assert!(matches!(
-            read_obj(&scratch_file("missing.obj")),
-            Err(Error::Io { .. })
-        ));
+        assert!(matches!(read_obj(&scratch_file("missing.obj")), Err(Error::Io { .. })));
     }
 
     #[test]

@@ -27,20 +27,15 @@ const HUGE_MESH_TRIANGLES: usize = 200_000;
 /// Writes `uv_svg_string(uv, uv_triangles)` to `path`. Errors: an index out of range
 /// (`InvalidArgument`, naming the triangle), or the file cannot be written (`Io`).
 pub fn write_uv_svg(path: &Path, uv: &[[f64; 2]], uv_triangles: &[[u32; 3]]) -> Result<(), Error> {
-    if let Some((t, tri)) = uv_triangles
-        .iter()
-        .enumerate()
-        .find(|(_, tri)| tri.iter().any(|&i| i as usize >= uv.len()))
+    if let Some((t, tri)) = uv_triangles.iter().enumerate().find(|(_, tri)| tri.iter().any(|&i| i as usize >= uv.len()))
     {
         return Err(Error::InvalidArgument(format!(
             "triangle {t} references uv {tri:?} but there are {} uv coordinates",
             uv.len()
         )));
     }
-    std::fs::write(path, uv_svg_string(uv, uv_triangles)).map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })
+    std::fs::write(path, uv_svg_string(uv, uv_triangles))
+        .map_err(|e| Error::Io { path: path.display().to_string(), message: e.to_string() })
 }
 
 /// The SVG document of the layout (see the module comment). Never panics; invalid triangles are
@@ -84,26 +79,8 @@ fn uv_svg_document(uv: &[[f64; 2]], uv_triangles: &[[u32; 3]], huge: bool) -> St
     svg.push_str("<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n");
     push_flipped_triangles(&mut svg, &frame, uv, &flipped, huge);
     let (grey_width, decimals) = if huge { (0.25, 1) } else { (0.5, 2) };
-    push_edge_path(
-        &mut svg,
-        &frame,
-        uv,
-        &edges.interior,
-        "#999999",
-        grey_width,
-        decimals,
-        huge,
-    );
-    push_edge_path(
-        &mut svg,
-        &frame,
-        uv,
-        &edges.boundary,
-        "black",
-        1.5,
-        decimals,
-        huge,
-    );
+    push_edge_path(&mut svg, &frame, uv, &edges.interior, "#999999", grey_width, decimals, huge);
+    push_edge_path(&mut svg, &frame, uv, &edges.boundary, "black", 1.5, decimals, huge);
     svg.push_str("</svg>\n");
     svg
 }
@@ -119,37 +96,21 @@ impl PictureFrame {
     fn fitting(uv: &[[f64; 2]], triangles: &[[u32; 3]]) -> PictureFrame {
         let mut lower = [f64::INFINITY; 2];
         let mut upper = [f64::NEG_INFINITY; 2];
-        for q in triangles
-            .iter()
-            .flatten()
-            .filter_map(|&i| uv.get(i as usize))
-        {
+        for q in triangles.iter().flatten().filter_map(|&i| uv.get(i as usize)) {
             for k in 0..2 {
                 lower[k] = lower[k].min(q[k]);
                 upper[k] = upper[k].max(q[k]);
             }
         }
         if !(lower[0] <= upper[0] && lower[1] <= upper[1]) {
-            return PictureFrame {
-                lower: [0.0; 2],
-                scale: 1.0,
-                offset: [MARGIN; 2],
-            };
+            return PictureFrame { lower: [0.0; 2], scale: 1.0, offset: [MARGIN; 2] };
         }
         let inner = PICTURE_SIZE - 2.0 * MARGIN;
         let extent = [upper[0] - lower[0], upper[1] - lower[1]];
         let largest = extent[0].max(extent[1]);
-        let scale = if largest > 0.0 && (inner / largest).is_finite() {
-            inner / largest
-        } else {
-            1.0
-        };
+        let scale = if largest > 0.0 && (inner / largest).is_finite() { inner / largest } else { 1.0 };
         let offset = [0, 1].map(|k| MARGIN + 0.5 * (inner - extent[k] * scale));
-        PictureFrame {
-            lower,
-            scale,
-            offset,
-        }
+        PictureFrame { lower, scale, offset }
     }
 
     fn px(&self, q: [f64; 2]) -> [f64; 2] {
@@ -159,13 +120,7 @@ impl PictureFrame {
     }
 }
 
-fn push_flipped_triangles(
-    svg: &mut String,
-    frame: &PictureFrame,
-    uv: &[[f64; 2]],
-    flipped: &[[u32; 3]],
-    huge: bool,
-) {
+fn push_flipped_triangles(svg: &mut String, frame: &PictureFrame, uv: &[[f64; 2]], flipped: &[[u32; 3]], huge: bool) {
     if flipped.is_empty() {
         return;
     }
@@ -215,10 +170,8 @@ fn push_edge_path(
     if edges.is_empty() {
         return;
     }
-    let _ = write!(
-        svg,
-        "<path fill=\"none\" stroke=\"{colour}\" stroke-width=\"{width}\" stroke-linecap=\"round\" d=\""
-    );
+    let _ =
+        write!(svg, "<path fill=\"none\" stroke=\"{colour}\" stroke-width=\"{width}\" stroke-linecap=\"round\" d=\"");
     let precision = 0.1f64.powi(decimals as i32);
     for e in edges {
         let a = frame.px(uv[e[0] as usize]);
@@ -301,10 +254,7 @@ mod tests {
         assert_eq!(count(&svg, "<polygon"), 1);
         assert_eq!(count(&svg, "fill=\"red\""), 1);
         // Every element is closed: self-closing tags plus <svg>, <title> and their end tags.
-        assert_eq!(
-            count(&svg, "<") - count(&svg, "</") - count(&svg, "<?"),
-            count(&svg, "/>") + 2
-        );
+        assert_eq!(count(&svg, "<") - count(&svg, "</") - count(&svg, "<?"), count(&svg, "/>") + 2);
         assert_eq!(count(&svg, "</"), 2);
     }
 
@@ -314,10 +264,7 @@ mod tests {
         let svg = uv_svg_string(&uv, &triangles);
         assert_eq!(count(&svg, "<polygon"), 0);
         // uv (0,0) is bottom-left: (16, 1008); uv (1,1) is top-right: (1008, 16).
-        let boundary = svg
-            .lines()
-            .find(|l| l.contains("stroke=\"black\""))
-            .unwrap_or("");
+        let boundary = svg.lines().find(|l| l.contains("stroke=\"black\"")).unwrap_or("");
         assert!(boundary.contains("M16 1008L1008 1008"), "{boundary}");
         assert!(boundary.contains("1008 16"), "{boundary}");
         // One diagonal interior edge, four boundary edges.
@@ -345,9 +292,7 @@ mod tests {
         assert!(matches!(refused, Err(Error::InvalidArgument(m)) if m.contains("triangle 8")));
         triangles.pop();
         write_uv_svg(&path, &uv, &triangles).unwrap();
-        assert!(std::fs::read_to_string(&path)
-            .unwrap_or_default()
-            .contains("</svg>"));
+        assert!(std::fs::read_to_string(&path).unwrap_or_default().contains("</svg>"));
         std::fs::remove_file(&path).ok();
         assert!(uv_svg_string(&[], &[]).contains("</svg>"));
     }
@@ -370,10 +315,7 @@ mod tests {
                     .map_or(rest.len(), |(i, _)| i);
                 let number = &rest[..end];
                 assert!(number.parse::<f64>().is_ok(), "bad number {number:?}");
-                assert!(
-                    number.matches('.').count() <= 1 && !number.ends_with('.'),
-                    "{number}"
-                );
+                assert!(number.matches('.').count() <= 1 && !number.ends_with('.'), "{number}");
                 rest = &rest[end..];
             }
         }
@@ -382,10 +324,7 @@ mod tests {
 
     fn path_data<'a>(svg: &'a str, stroke: &str) -> &'a str {
         let line = svg.lines().find(|l| l.contains(stroke)).unwrap_or("");
-        line.split(" d=\"")
-            .nth(1)
-            .and_then(|d| d.split('"').next())
-            .unwrap_or("")
+        line.split(" d=\"").nth(1).and_then(|d| d.split('"').next()).unwrap_or("")
     }
 
     #[test]
@@ -401,40 +340,22 @@ mod tests {
         let wobbly: Vec<[f64; 2]> = uv
             .iter()
             .enumerate()
-            .map(|(i, q)| {
-                [
-                    q[0] + 1e-3 * (i as f64).sin(),
-                    q[1] - 1e-3 * (i as f64).cos(),
-                ]
-            })
+            .map(|(i, q)| [q[0] + 1e-3 * (i as f64).sin(), q[1] - 1e-3 * (i as f64).cos()])
             .collect();
         for huge in [false, true] {
             let svg = uv_svg_document(&wobbly, &triangles, huge);
             let interior = path_commands(path_data(&svg, "#999999"));
             assert_eq!(path_commands(path_data(&svg, "stroke=\"black\"")), 2 * 240);
-            assert_eq!(
-                path_commands(path_data(&svg, "fill=\"red\"")),
-                if huge { 4 } else { 0 }
-            );
+            assert_eq!(path_commands(path_data(&svg, "fill=\"red\"")), if huge { 4 } else { 0 });
             let expected = 2 * (3 * 7200 / 2 - 120);
-            assert!(
-                interior <= expected && interior > expected * 9 / 10,
-                "{interior}"
-            );
+            assert!(interior <= expected && interior > expected * 9 / 10, "{interior}");
         }
     }
 
     #[test]
     fn numbers_are_short() {
         let mut s = String::new();
-        for (x, d) in [
-            (12.5, 2),
-            (3.0, 2),
-            (-0.001, 2),
-            (7.25, 1),
-            (-4.126, 2),
-            (100.0, 1),
-        ] {
+        for (x, d) in [(12.5, 2), (3.0, 2), (-0.001, 2), (7.25, 1), (-4.126, 2), (100.0, 1)] {
             push_number(&mut s, x, d);
             s.push(' ');
         }

@@ -19,7 +19,9 @@
 use super::multifrontal::{front_positions, run, Entries, PermutedLower};
 use crate::error::{Error, Result};
 use faer::linalg::matmul::matmul;
-use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_unit_lower_triangular_in_place, solve_upper_triangular_in_place};
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_unit_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
@@ -193,7 +195,9 @@ impl SparseLu {
         };
         let (lower, upper_t) = PermutedLower::split(a, inverse);
         let mut values = Vec::new();
-        values.try_reserve_exact(2 * symbolic.len_val()).map_err(|_| Error::Internal("out of memory for the LU factors".into()))?;
+        values
+            .try_reserve_exact(2 * symbolic.len_val())
+            .map_err(|_| Error::Internal("out of memory for the LU factors".into()))?;
         values.resize(2 * symbolic.len_val(), 0.0);
         if n > 0 {
             run(&symbolic, Entries::Lu { lower: &lower, upper_t: &upper_t }, &mut values)?;
@@ -204,7 +208,11 @@ impl SparseLu {
     /// Solves `A X = B` for every column of `rhs`, in place.
     pub fn solve_in_place(&self, rhs: &mut Mat<f64>) -> Result<()> {
         let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
-            return if self.symbolic.nrows() == 0 { Ok(()) } else { Err(Error::Internal("LU factors without supernodal structure".into())) };
+            return if self.symbolic.nrows() == 0 {
+                Ok(())
+            } else {
+                Err(Error::Internal("LU factors without supernodal structure".into()))
+            };
         };
         let k = rhs.ncols();
         let mut x = Mat::<f64>::from_fn(rhs.nrows(), k, |i, j| rhs[(self.forward[i], j)]);

@@ -46,7 +46,8 @@ pub fn independent_rows(rows: &[SparseRow]) -> Vec<usize> {
             m
         })
         .collect();
-    let dot = |a: usize, b: usize| -> f64 { dense[a].iter().map(|(c, v)| v * dense[b].get(c).copied().unwrap_or(0.0)).sum() };
+    let dot =
+        |a: usize, b: usize| -> f64 { dense[a].iter().map(|(c, v)| v * dense[b].get(c).copied().unwrap_or(0.0)).sum() };
     let mut kept: Vec<usize> = Vec::new();
     // Rows of the lower-triangular factor L of the Gram matrix of the kept rows.
     let mut factor: Vec<Vec<f64>> = Vec::new();
@@ -158,8 +159,9 @@ pub fn check_dropped(
             let value: f64 = rows[i].iter().map(|&(col, w)| w * x[(col, c)]).sum::<f64>() + fixed_part[(i, c)];
             let want = targets[(i, c)];
             if !((value - want).abs() <= tolerance) {
-                let position: Vec<f64> =
-                    (0..targets.ncols()).map(|c| rows[i].iter().map(|&(col, w)| w * x[(col, c)]).sum::<f64>() + fixed_part[(i, c)]).collect();
+                let position: Vec<f64> = (0..targets.ncols())
+                    .map(|c| rows[i].iter().map(|&(col, w)| w * x[(col, c)]).sum::<f64>() + fixed_part[(i, c)])
+                    .collect();
                 let target: Vec<f64> = (0..targets.ncols()).map(|c| targets[(i, c)]).collect();
                 return Err(Error::InvalidArgument(format!(
                     "constraint {i} conflicts with the other constraints or the fixed boundary: it asks for {target:?} but they \
@@ -180,10 +182,10 @@ mod tests {
         let rows = vec![
             vec![(0, 1.0)],
             vec![(0, 0.5), (1, 0.5)],
-            vec![(1, 1.0)],             // = 2·row1 − row0
-            vec![],                     // empty
-            vec![(2, 0.3), (2, 0.7)],   // repeated column adds up
-            vec![(0, 2.0)],             // parallel to row 0
+            vec![(1, 1.0)],           // = 2·row1 − row0
+            vec![],                   // empty
+            vec![(2, 0.3), (2, 0.7)], // repeated column adds up
+            vec![(0, 2.0)],           // parallel to row 0
         ];
         assert_eq!(independent_rows(&rows), vec![0, 1, 4]);
     }
@@ -192,7 +194,15 @@ mod tests {
     fn constrained_solve_satisfies_the_constraints_and_the_stationarity_condition() {
         // A = tridiagonal SPD 5 × 5, one constraint x1 + x3 = 1.
         let n = 5;
-        let a = Mat::<f64>::from_fn(n, n, |i, j| if i == j { 2.0 } else if i.abs_diff(j) == 1 { -1.0 } else { 0.0 });
+        let a = Mat::<f64>::from_fn(n, n, |i, j| {
+            if i == j {
+                2.0
+            } else if i.abs_diff(j) == 1 {
+                -1.0
+            } else {
+                0.0
+            }
+        });
         let lu = a.full_piv_lu();
         let solve = |m: &mut Mat<f64>| -> Result<()> {
             *m = lu.solve(&*m);

@@ -13,12 +13,14 @@ use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::Solve;
 use faer::perm::PermRef;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
-use std::sync::Arc;
 use faer::traits::ComplexField;
 use faer::{Conj, Mat, Par, Side};
+use std::sync::Arc;
 
 /// Accumulates matrix entries; repeated (row, col) entries are summed.
 pub struct TripletBuilder<T> {
@@ -31,7 +33,12 @@ pub struct TripletBuilder<T> {
 impl<T: ComplexField + Copy + std::ops::Add<Output = T>> TripletBuilder<T> {
     /// An empty `n × n` matrix with room for `capacity` entries.
     pub fn with_capacity(n: usize, capacity: usize) -> Self {
-        TripletBuilder { n, rows: Vec::with_capacity(capacity), cols: Vec::with_capacity(capacity), values: Vec::with_capacity(capacity) }
+        TripletBuilder {
+            n,
+            rows: Vec::with_capacity(capacity),
+            cols: Vec::with_capacity(capacity),
+            values: Vec::with_capacity(capacity),
+        }
     }
     /// Adds `value` at (`row`, `col`).
     #[inline]
@@ -178,7 +185,10 @@ impl CholeskyPattern {
 
     /// Numeric factorization of a matrix with the analysed pattern (parallel multifrontal,
     /// [`multifrontal`]).
-    pub fn factor<T: ComplexField + Copy + Send + Sync>(&self, lower: &SparseColMat<usize, T>) -> Result<CholeskySolver<T>> {
+    pub fn factor<T: ComplexField + Copy + Send + Sync>(
+        &self,
+        lower: &SparseColMat<usize, T>,
+    ) -> Result<CholeskySolver<T>> {
         let mut values = try_zeroed_vec::<T>(self.symbolic.len_val())?;
         // An empty system (e.g. a fixed-boundary map of a mesh without interior vertices) has
         // nothing to factor; faer's analysis of it is not supernodal.
@@ -213,7 +223,12 @@ impl<T: ComplexField + Copy + Send + Sync> CholeskySolver<T> {
     pub fn solve_in_place_with(&self, rhs: &mut Mat<T>, par: Par) -> Result<()> {
         let mut mem = MemBuffer::try_new(self.symbolic.solve_in_place_scratch::<T>(rhs.ncols(), par))
             .map_err(|_| Error::Internal("out of memory for the solve workspace".into()))?;
-        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, rhs.as_mut(), par, MemStack::new(&mut mem));
+        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            rhs.as_mut(),
+            par,
+            MemStack::new(&mut mem),
+        );
         Ok(())
     }
 }
@@ -221,14 +236,18 @@ impl<T: ComplexField + Copy + Send + Sync> CholeskySolver<T> {
 /// Symbolic parameters: always the supernodal structure, which the multifrontal numeric
 /// factorization works on.
 fn supernodal() -> CholeskySymbolicParams<'static> {
-    CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() }
+    CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+        ..Default::default()
+    }
 }
 
 /// A zeroed vector, filled in parallel (the first touch of a large allocation is page faults).
 fn try_zeroed_vec<T: ComplexField + Copy + Send + Sync>(len: usize) -> Result<Vec<T>> {
     use rayon::iter::{repeat_n, ParallelExtend};
     let mut v = Vec::new();
-    v.try_reserve_exact(len).map_err(|_| Error::Internal(format!("out of memory for a Cholesky factor of {len} entries")))?;
+    v.try_reserve_exact(len)
+        .map_err(|_| Error::Internal(format!("out of memory for a Cholesky factor of {len} entries")))?;
     v.par_extend(repeat_n(T::zero_impl(), len));
     Ok(v)
 }
@@ -321,10 +340,20 @@ fn backward_error(a: SparseColMatRef<'_, usize, f64>, x: &Mat<f64>, b: &Mat<f64>
                     r[i] += v * x[(j, c)];
                 }
             }
-            let inf = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, e| if e.is_nan() { f64::INFINITY } else { m.max(e.abs()) });
-            let (r_norm, x_norm, b_norm) = (inf(&mut r.into_iter()), inf(&mut x.col_as_slice(c).iter().copied()), inf(&mut b.col_as_slice(c).iter().copied()));
+            let inf = |v: &mut dyn Iterator<Item = f64>| {
+                v.fold(0.0f64, |m, e| if e.is_nan() { f64::INFINITY } else { m.max(e.abs()) })
+            };
+            let (r_norm, x_norm, b_norm) = (
+                inf(&mut r.into_iter()),
+                inf(&mut x.col_as_slice(c).iter().copied()),
+                inf(&mut b.col_as_slice(c).iter().copied()),
+            );
             let scale = a_norm * x_norm + b_norm;
-            if scale == 0.0 { 0.0 } else { r_norm / scale }
+            if scale == 0.0 {
+                0.0
+            } else {
+                r_norm / scale
+            }
         })
         .fold(0.0, f64::max)
 }

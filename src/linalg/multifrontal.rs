@@ -23,11 +23,11 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch, LltError};
 use faer::linalg::matmul::triangular::{matmul, BlockStructure};
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::SparseColMatRef;
 use faer::traits::ComplexField;
-use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, MatMut, Par};
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::Mutex;
@@ -70,13 +70,21 @@ impl<T> Entries<'_, T> {
 
 /// Runs the multifrontal factorization of `entries` on the supernodal structure of
 /// `symbolic`; `values` holds, per supernode, its block of L (and for LU then its block of Uᵀ).
-pub(crate) fn run<T: ComplexField + Copy + Send + Sync>(symbolic: &SymbolicCholesky<usize>, entries: Entries<'_, T>, values: &mut [T]) -> Result<()> {
+pub(crate) fn run<T: ComplexField + Copy + Send + Sync>(
+    symbolic: &SymbolicCholesky<usize>,
+    entries: Entries<'_, T>,
+    values: &mut [T],
+) -> Result<()> {
     let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
         return Err(Error::Internal("the multifrontal factorization needs a supernodal symbolic analysis".into()));
     };
     let blocks = entries.blocks();
     if values.len() != blocks * sn.len_val() {
-        return Err(Error::Internal(format!("factor storage of {} entries for {} expected", values.len(), blocks * sn.len_val())));
+        return Err(Error::Internal(format!(
+            "factor storage of {} entries for {} expected",
+            values.len(),
+            blocks * sn.len_val()
+        )));
     }
     let tree = SupernodeTree::new(sn);
     let mut slots = Vec::with_capacity(tree.len());
@@ -151,7 +159,11 @@ fn run_task<T: ComplexField + Copy + Send + Sync>(root: u32, cx: &Context<'_, T>
 }
 
 /// Factors every supernode of the subtree of `root`, children before parents.
-fn factor_subtree<T: ComplexField + Copy + Send + Sync>(root: u32, cx: &Context<'_, T>, pool: &mut Pool<T>) -> Result<()> {
+fn factor_subtree<T: ComplexField + Copy + Send + Sync>(
+    root: u32,
+    cx: &Context<'_, T>,
+    pool: &mut Pool<T>,
+) -> Result<()> {
     // Iterative postorder: (supernode, index of the next child to visit).
     let mut stack = vec![(root, 0usize)];
     while let Some(&mut (s, ref mut next)) = stack.last_mut() {
@@ -205,7 +217,11 @@ impl<T: ComplexField + Copy> Pool<T> {
 }
 
 /// Assembles and factors the front of supernode `s`, leaving its update matrix for the parent.
-fn factor_supernode<T: ComplexField + Copy + Send + Sync>(s: u32, cx: &Context<'_, T>, pool: &mut Pool<T>) -> Result<()> {
+fn factor_supernode<T: ComplexField + Copy + Send + Sync>(
+    s: u32,
+    cx: &Context<'_, T>,
+    pool: &mut Pool<T>,
+) -> Result<()> {
     let sn = cx.sn;
     let (f, l) = (sn.supernode_begin()[s as usize], sn.supernode_end()[s as usize]);
     let pattern = sn.supernode(s as usize).pattern();
@@ -238,11 +254,26 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(s: u32, cx: &Context<'
             assemble_columns(l_block, ld, f, l, pattern, lower);
             frontal_lu::assemble_upper(l_block, u_block, ld, f, l, pattern, upper_t);
             for (c, child) in children {
-                frontal_lu::extend_add_full(l_block, u_block, &mut update, ld, f, l, pattern, &child, cx.sn.supernode(c as usize).pattern());
+                frontal_lu::extend_add_full(
+                    l_block,
+                    u_block,
+                    &mut update,
+                    ld,
+                    f,
+                    l,
+                    pattern,
+                    &child,
+                    cx.sn.supernode(c as usize).pattern(),
+                );
                 pool.give(child);
             }
-            frontal_lu::partial_lu(l_block, u_block, &mut update, w, m, par)
-                .map_err(|index| Error::Numerical(format!("zero or non-finite pivot {} of {} in the LU factorization without pivoting", f + index, sn.nrows())))?;
+            frontal_lu::partial_lu(l_block, u_block, &mut update, w, m, par).map_err(|index| {
+                Error::Numerical(format!(
+                    "zero or non-finite pivot {} of {} in the LU factorization without pivoting",
+                    f + index,
+                    sn.nrows()
+                ))
+            })?;
         }
     }
     if m > 0 {
@@ -254,7 +285,14 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(s: u32, cx: &Context<'
 }
 
 /// Adds the entries of A in columns `f..l` into the front's factor block.
-fn assemble_columns<T: ComplexField + Copy + Send + Sync>(block: &mut [T], ld: usize, f: usize, l: usize, pattern: &[usize], a: &PermutedLower<T>) {
+fn assemble_columns<T: ComplexField + Copy + Send + Sync>(
+    block: &mut [T],
+    ld: usize,
+    f: usize,
+    l: usize,
+    pattern: &[usize],
+    a: &PermutedLower<T>,
+) {
     for j in f..l {
         let column = &mut block[(j - f) * ld..(j - f + 1) * ld];
         for (&i, &v) in a.rows_of(j).iter().zip(a.values_of(j)) {
@@ -321,7 +359,13 @@ fn extend_add<T: ComplexField + Copy + Send + Sync>(
 /// dimension `w + m`) and its update block `F₂₂` (`m × m`): `F₁₁ = L₁₁L₁₁ᴴ`,
 /// `L₂₁ = F₂₁L₁₁⁻ᴴ`, `F₂₂ ← F₂₂ − L₂₁L₂₁ᴴ` (lower triangle). Returns the failing pivot's
 /// index on a non-positive pivot.
-fn partial_cholesky<T: ComplexField + Copy + Send + Sync>(block: &mut [T], update: &mut [T], w: usize, m: usize, par: Par) -> std::result::Result<(), usize> {
+fn partial_cholesky<T: ComplexField + Copy + Send + Sync>(
+    block: &mut [T],
+    update: &mut [T],
+    w: usize,
+    m: usize,
+    par: Par,
+) -> std::result::Result<(), usize> {
     let mut front = MatMut::from_column_major_slice_mut(block, w + m, w);
     let (mut top, mut bottom) = front.rb_mut().split_at_row_mut(w);
     let mut mem = MemBuffer::new(cholesky_in_place_scratch::<T>(w, par, Default::default()));
@@ -401,7 +445,11 @@ impl<T: ComplexField + Copy + Send + Sync> PermutedLower<T> {
         // (triangle, row, column) of entry (i, j) after permutation.
         let place = |i: usize, j: usize| {
             let (pi, pj) = (new(i), new(j));
-            if pi >= pj { (0, pi, pj) } else { (1, pj, pi) }
+            if pi >= pj {
+                (0, pi, pj)
+            } else {
+                (1, pj, pi)
+            }
         };
         let mut col_ptr = [vec![0usize; n + 1], vec![0usize; n + 1]];
         for j in 0..n {
@@ -461,7 +509,8 @@ impl SupernodeTree {
         for s in 0..count {
             owner[sn.supernode_begin()[s]..sn.supernode_end()[s]].fill(s as u32);
         }
-        let parent: Vec<u32> = (0..count).map(|s| sn.supernode(s).pattern().first().map_or(NONE, |&i| owner[i])).collect();
+        let parent: Vec<u32> =
+            (0..count).map(|s| sn.supernode(s).pattern().first().map_or(NONE, |&i| owner[i])).collect();
         let mut child_start = vec![0u32; count + 1];
         for &p in &parent {
             if p != NONE {
@@ -543,7 +592,10 @@ mod tests {
             for i in 0..k {
                 coords[id(i, j) as usize] = [i as f64, j as f64, 0.0];
                 for (a, b) in [(id(i, j), id(i + 1, j)), (id(i, j), id(i, j + 1)), (id(i, j), id(i + 1, j + 1))] {
-                    if i + 1 >= k && b == id(i + 1, j) || j + 1 >= k && b != id(i + 1, j) || i + 1 >= k && b == id(i + 1, j + 1) {
+                    if i + 1 >= k && b == id(i + 1, j)
+                        || j + 1 >= k && b != id(i + 1, j)
+                        || i + 1 >= k && b == id(i + 1, j + 1)
+                    {
                         continue;
                     }
                     let w = 1.0 + 0.1 * ((a * 7 + b * 3) % 5) as f64;

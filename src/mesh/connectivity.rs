@@ -22,13 +22,21 @@ pub const NONE: u32 = u32::MAX;
 /// Next half-edge inside the same triangle.
 #[inline]
 pub fn next(h: u32) -> u32 {
-    if h % 3 == 2 { h - 2 } else { h + 1 }
+    if h % 3 == 2 {
+        h - 2
+    } else {
+        h + 1
+    }
 }
 
 /// Previous half-edge inside the same triangle.
 #[inline]
 pub fn prev(h: u32) -> u32 {
-    if h % 3 == 0 { h + 2 } else { h - 1 }
+    if h % 3 == 0 {
+        h + 2
+    } else {
+        h - 1
+    }
 }
 
 /// Half-edge connectivity: twins and one outgoing half-edge per vertex.
@@ -56,7 +64,9 @@ impl Connectivity {
     /// and every vertex a single fan. Triangle indices must already be in range and distinct.
     pub fn new(vertex_count: usize, triangles: &[[u32; 3]]) -> Result<Self> {
         if vertex_count > MAX_VERTICES {
-            return Err(Error::InvalidArgument(format!("meshes with more than {MAX_VERTICES} vertices are not supported (got {vertex_count})")));
+            return Err(Error::InvalidArgument(format!(
+                "meshes with more than {MAX_VERTICES} vertices are not supported (got {vertex_count})"
+            )));
         }
         let mut buckets = EdgeBuckets::new(vertex_count, triangles);
         let twin = match_twins(triangles, &mut buckets)?;
@@ -70,7 +80,11 @@ impl Connectivity {
     #[inline]
     pub fn rotate_ccw(&self, h: u32) -> u32 {
         let t = self.twin[prev(h) as usize];
-        if t == NONE { NONE } else { t }
+        if t == NONE {
+            NONE
+        } else {
+            t
+        }
     }
 
     /// Whether half-edge `h` lies on the boundary.
@@ -233,7 +247,9 @@ fn check_single_fans(vertex_count: usize, triangles: &[[u32; 3]], twin: &[u32]) 
     for (v, fan) in fans.into_iter().enumerate() {
         match fan {
             Some(h) => vertex_halfedge.push(h),
-            None => return Err(Error::NonManifoldVertex { vertex: v as u32, fans: count_fans(v as u32, triangles, twin) }),
+            None => {
+                return Err(Error::NonManifoldVertex { vertex: v as u32, fans: count_fans(v as u32, triangles, twin) })
+            }
         }
     }
     Ok(vertex_halfedge)

@@ -175,7 +175,10 @@ fn edge_costs(mesh: &TriMesh, edges: &Edges, cost: &EdgeCost) -> Result<Vec<f64>
                 )));
             }
             if let Some(h) = given.iter().position(|c| !(c.is_finite() && *c >= 0.0)) {
-                return Err(Error::InvalidArgument(format!("edge cost of half-edge {h} is {} (must be finite and ≥ 0)", given[h])));
+                return Err(Error::InvalidArgument(format!(
+                    "edge cost of half-edge {h} is {} (must be finite and ≥ 0)",
+                    given[h]
+                )));
             }
             edges
                 .halfedge
@@ -194,7 +197,11 @@ fn unit_normal(points: &[[f64; 3]], t: [u32; 3]) -> [f64; 3] {
     let [a, b, c] = t.map(|v| points[v as usize]);
     let n = cross(sub(b, a), sub(c, a));
     let l = norm(n);
-    if l > 0.0 { n.map(|x| x / l) } else { [0.0; 3] }
+    if l > 0.0 {
+        n.map(|x| x / l)
+    } else {
+        [0.0; 3]
+    }
 }
 
 /// Vertex with the largest |angle defect| (2π − Σ angles for interior vertices), the root of
@@ -295,13 +302,18 @@ fn cut_graph(mesh: &TriMesh, edges: &Edges, costs: &[f64]) -> Vec<bool> {
     let cost_of = |cut: &[bool]| -> f64 { cut.iter().zip(costs).filter(|(c, _)| **c).map(|(_, w)| w).sum() };
     let by_cost = cut_graph_by_cost(mesh, edges, costs);
     let rooted = rooted_cut_graph(mesh, edges, costs);
-    if cost_of(&by_cost) < cost_of(&rooted) { by_cost } else { rooted }
+    if cost_of(&by_cost) < cost_of(&rooted) {
+        by_cost
+    } else {
+        rooted
+    }
 }
 
 /// Complement of the maximum dual spanning tree by edge cost, pruned.
 fn cut_graph_by_cost(mesh: &TriMesh, edges: &Edges, costs: &[f64]) -> Vec<bool> {
     let conn = mesh.connectivity();
-    let mut order: Vec<u32> = (0..edges.len() as u32).filter(|&e| !conn.is_boundary(edges.halfedge[e as usize])).collect();
+    let mut order: Vec<u32> =
+        (0..edges.len() as u32).filter(|&e| !conn.is_boundary(edges.halfedge[e as usize])).collect();
     order.sort_unstable_by(|&a, &b| costs[b as usize].total_cmp(&costs[a as usize]).then(a.cmp(&b)));
     let mut face_set: Vec<u32> = (0..mesh.triangle_count() as u32).collect();
     let mut cut = vec![true; edges.len()];
@@ -333,13 +345,18 @@ fn rooted_cut_graph(mesh: &TriMesh, edges: &Edges, costs: &[f64]) -> Vec<bool> {
             degree[mesh.head(h) as usize] += 1;
         }
     }
-    let hub = (0..mesh.vertex_count() as u32).max_by_key(|&v| (degree[v as usize], std::cmp::Reverse(v))).unwrap_or(root);
+    let hub =
+        (0..mesh.vertex_count() as u32).max_by_key(|&v| (degree[v as usize], std::cmp::Reverse(v))).unwrap_or(root);
     if hub == root || degree[hub as usize] == 0 {
         return first;
     }
     let second = cut_graph_from(mesh, edges, costs, &[hub]);
     let cost_of = |cut: &[bool]| -> f64 { cut.iter().zip(costs).filter(|(c, _)| **c).map(|(_, w)| w).sum() };
-    if cost_of(&second) <= cost_of(&first) { second } else { first }
+    if cost_of(&second) <= cost_of(&first) {
+        second
+    } else {
+        first
+    }
 }
 
 /// The pruned tree–cotree cut graph with the primal tree grown from `sources`.
@@ -406,7 +423,9 @@ fn prune_dangling(mesh: &TriMesh, edges: &Edges, cut: &mut [bool]) {
 /// edges so that the cut mesh is a proper disk.
 fn sphere_cut_path(mesh: &TriMesh, edges: &Edges, costs: &[f64]) -> Vec<bool> {
     let farthest = |dist: &[f64]| {
-        (0..dist.len() as u32).filter(|&v| dist[v as usize].is_finite()).max_by(|&a, &b| dist[a as usize].total_cmp(&dist[b as usize]))
+        (0..dist.len() as u32)
+            .filter(|&v| dist[v as usize].is_finite())
+            .max_by(|&a, &b| dist[a as usize].total_cmp(&dist[b as usize]))
     };
     let root = most_curved_vertex(mesh);
     let (d0, _) = shortest_path_tree(mesh, edges, costs, &[root]);
@@ -555,12 +574,20 @@ mod tests {
             .map(|h| {
                 let (a, b) = (mesh.tail(h), mesh.head(h));
                 let same_ring = (a / 8 == 0 && b / 8 == 0) || (a % 8 == 0 && b % 8 == 0);
-                if same_ring { 0.01 } else { 10.0 }
+                if same_ring {
+                    0.01
+                } else {
+                    10.0
+                }
             })
             .collect();
         let cut = cut_to_disk(&mesh, &EdgeCost::PerHalfedge(costs)).expect("cut");
         assert_disk(&mesh, &cut);
         assert_eq!(cut.edges.len(), 12 + 8, "the cut is the two cheap rings");
-        assert!(cut.edges.iter().all(|&[a, b]| (a / 8 == 0 && b / 8 == 0) || (a % 8 == 0 && b % 8 == 0)), "{:?}", cut.edges);
+        assert!(
+            cut.edges.iter().all(|&[a, b]| (a / 8 == 0 && b / 8 == 0) || (a % 8 == 0 && b % 8 == 0)),
+            "{:?}",
+            cut.edges
+        );
     }
 }

@@ -81,7 +81,8 @@ pub fn is_degenerate(relative_area: f64) -> bool {
 
 /// Rejects triangles with (near-)zero area (the first one, in triangle order, is reported).
 pub fn check_degenerate(points: &[[f64; 3]], tris: &[[u32; 3]]) -> Result<()> {
-    let relative = |tri: &[u32; 3]| relative_area(points[tri[0] as usize], points[tri[1] as usize], points[tri[2] as usize]);
+    let relative =
+        |tri: &[u32; 3]| relative_area(points[tri[0] as usize], points[tri[1] as usize], points[tri[2] as usize]);
     let degenerate = tris.par_iter().with_min_len(4096).position_first(|tri| is_degenerate(relative(tri)));
     match degenerate {
         Some(t) => Err(Error::DegenerateTriangle { triangle: t, relative_area: relative(&tris[t]) }),

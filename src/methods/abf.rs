@@ -54,9 +54,7 @@
 
 use crate::error::{Error, Result};
 use crate::linalg::ordering::{nested_dissection, Adjacency};
-use crate::linalg::{
-    lower_from_entries, require_finite, CholeskyPattern, LuSolver, TripletBuilder,
-};
+use crate::linalg::{lower_from_entries, require_finite, CholeskyPattern, LuSolver, TripletBuilder};
 use crate::mesh::{TriMesh, NONE};
 use crate::methods::conformal::{resolve_pins, ConformalSystem, Pin};
 use crate::progress::Progress;
@@ -89,12 +87,7 @@ pub struct AbfOptions {
 
 impl Default for AbfOptions {
     fn default() -> Self {
-        AbfOptions {
-            variant: AbfVariant::AbfPlusPlus,
-            max_iterations: 20,
-            tolerance: 1e-6,
-            pins: None,
-        }
+        AbfOptions { variant: AbfVariant::AbfPlusPlus, max_iterations: 20, tolerance: 1e-6, pins: None }
     }
 }
 
@@ -133,27 +126,16 @@ pub fn abf(mesh: &TriMesh, options: &AbfOptions) -> Result<AbfResult> {
 }
 
 /// [`abf`] with progress reporting (once per iteration) and cancellation.
-pub fn abf_with_progress(
-    mesh: &TriMesh,
-    options: &AbfOptions,
-    progress: &mut Progress,
-) -> Result<AbfResult> {
+pub fn abf_with_progress(mesh: &TriMesh, options: &AbfOptions, progress: &mut Progress) -> Result<AbfResult> {
     let pins = resolve_pins(mesh, options.pins)?;
     let solution = optimize_angles(mesh, options, progress)?;
     let uv = reconstruct_uv(mesh, &solution.angles, pins)?;
     progress.report(1.0)?;
-    Ok(AbfResult {
-        uv,
-        report: solution.report,
-    })
+    Ok(AbfResult { uv, report: solution.report })
 }
 
 /// The angle optimisation alone (ABF §3–4 or ABF++ §3): planar angles and the report.
-pub fn optimize_angles(
-    mesh: &TriMesh,
-    options: &AbfOptions,
-    progress: &mut Progress,
-) -> Result<AngleSolution> {
+pub fn optimize_angles(mesh: &TriMesh, options: &AbfOptions, progress: &mut Progress) -> Result<AngleSolution> {
     mesh.require_disk_with_holes()?;
     if !(options.tolerance.is_finite() && options.tolerance >= 0.0) {
         return Err(Error::InvalidArgument(format!(
@@ -195,32 +177,16 @@ pub fn optimize_angles(
         progress.report(0.9 * iterations as f64 / total)?;
         lin = problem.linearize(&state);
     }
-    let invalid_angles = state
-        .alpha
-        .iter()
-        .filter(|&&a| !(a > 0.0 && a < PI))
-        .count();
-    let angles = state
-        .alpha
-        .chunks_exact(3)
-        .map(|c| [c[0], c[1], c[2]])
-        .collect();
-    let report = AbfReport {
-        iterations,
-        gradient_norm: lin.norm,
-        converged: lin.norm <= options.tolerance,
-        invalid_angles,
-    };
+    let invalid_angles = state.alpha.iter().filter(|&&a| !(a > 0.0 && a < PI)).count();
+    let angles = state.alpha.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let report =
+        AbfReport { iterations, gradient_norm: lin.norm, converged: lin.norm <= options.tolerance, invalid_angles };
     Ok(AngleSolution { angles, report })
 }
 
 /// ABF++ §5: the uv layout whose triangles are as similar as possible (least squares, LSCM
 /// style) to the triangles with the given angles, two vertices pinned.
-pub fn reconstruct_uv(
-    mesh: &TriMesh,
-    angles: &[[f64; 3]],
-    pins: [Pin; 2],
-) -> Result<Vec<[f64; 2]>> {
+pub fn reconstruct_uv(mesh: &TriMesh, angles: &[[f64; 3]], pins: [Pin; 2]) -> Result<Vec<[f64; 2]>> {
     if angles.len() != mesh.triangle_count() {
         return Err(Error::InvalidArgument(format!(
             "{} angle triples for {} triangles",
@@ -228,15 +194,11 @@ pub fn reconstruct_uv(
             mesh.triangle_count()
         )));
     }
-    let cot: Vec<[f64; 3]> = angles
-        .iter()
-        .map(|a| a.map(|x| x.cos() / x.sin()))
-        .collect();
+    let cot: Vec<[f64; 3]> = angles.iter().map(|a| a.map(|x| x.cos() / x.sin())).collect();
     require_finite(cot.iter().flatten().copied(), "ABF angle")?;
     let mut system = ConformalSystem::with_cotangents(mesh, &pins, &cot)?;
     let coords = system.unknowns.positions(mesh);
-    crate::linalg::CholeskySolver::new(&system.matrix, Some(&coords))?
-        .solve_in_place(&mut system.rhs)?;
+    crate::linalg::CholeskySolver::new(&system.matrix, Some(&coords))?.solve_in_place(&mut system.rhs)?;
     system.uv(mesh)
 }
 
@@ -313,15 +275,7 @@ impl<'a> AngleProblem<'a> {
             })
             .collect();
         let weight = beta.iter().map(|b| 1.0 / (b * b)).collect();
-        AngleProblem {
-            tris,
-            interior,
-            n_int,
-            beta,
-            weight,
-            log_form,
-            diag_hessian,
-        }
+        AngleProblem { tris, interior, n_int, beta, weight, log_form, diag_hessian }
     }
 
     /// Row of the planarity (`which = 0`) or reconstruction (`1`) constraint of vertex `v`, or
@@ -348,28 +302,15 @@ impl<'a> AngleProblem<'a> {
         let after = tri[(k + 1) % 3];
         let rb = self.row(before, 1);
         let ra = self.row(after, 1);
-        let nb = if rb == NONE {
-            0.0
-        } else {
-            lin.p_next[(rb / 2) as usize] * lin.cot[c]
-        };
-        let na = if ra == NONE {
-            0.0
-        } else {
-            -lin.p_prev[(ra / 2) as usize] * lin.cot[c]
-        };
+        let nb = if rb == NONE { 0.0 } else { lin.p_next[(rb / 2) as usize] * lin.cot[c] };
+        let na = if ra == NONE { 0.0 } else { -lin.p_prev[(ra / 2) as usize] * lin.cot[c] };
         [(own, 1.0), (rb, nb), (ra, na)]
     }
 
     fn linearize(&self, s: &State) -> Linearization {
         let m3 = s.alpha.len();
         let sin: Vec<f64> = s.alpha.iter().map(|a| a.sin()).collect();
-        let cot: Vec<f64> = s
-            .alpha
-            .iter()
-            .zip(&sin)
-            .map(|(a, si)| a.cos() / si)
-            .collect();
+        let cot: Vec<f64> = s.alpha.iter().zip(&sin).map(|(a, si)| a.cos() / si).collect();
         let (mut p_next, mut p_prev) = (vec![1.0; self.n_int], vec![1.0; self.n_int]);
         let mut c2 = vec![0.0; 2 * self.n_int];
         for (t, tri) in self.tris.iter().enumerate() {
@@ -384,35 +325,17 @@ impl<'a> AngleProblem<'a> {
         }
         for i in 0..self.n_int {
             c2[2 * i] -= 2.0 * PI;
-            c2[2 * i + 1] = if self.log_form {
-                p_next[i].ln() - p_prev[i].ln()
-            } else {
-                p_next[i] - p_prev[i]
-            };
+            c2[2 * i + 1] = if self.log_form { p_next[i].ln() - p_prev[i].ln() } else { p_next[i] - p_prev[i] };
         }
         if self.log_form {
             p_next.fill(1.0);
             p_prev.fill(1.0);
         }
-        let c_tri: Vec<f64> = s
-            .alpha
-            .chunks_exact(3)
-            .map(|a| a[0] + a[1] + a[2] - PI)
-            .collect();
-        let mut lin = Linearization {
-            sin,
-            cot,
-            p_next,
-            p_prev,
-            grad_alpha: Vec::new(),
-            c_tri,
-            c2,
-            norm: 0.0,
-        };
+        let c_tri: Vec<f64> = s.alpha.chunks_exact(3).map(|a| a[0] + a[1] + a[2] - PI).collect();
+        let mut lin = Linearization { sin, cot, p_next, p_prev, grad_alpha: Vec::new(), c_tri, c2, norm: 0.0 };
         let grad_alpha: Vec<f64> = (0..m3)
             .map(|c| {
-                let mut g =
-                    2.0 * self.weight[c] * (s.alpha[c] - self.beta[c]) + s.lambda_tri[c / 3];
+                let mut g = 2.0 * self.weight[c] * (s.alpha[c] - self.beta[c]) + s.lambda_tri[c / 3];
                 for (r, coef) in self.j2_column(&lin, c) {
                     if r != NONE {
                         g += s.lambda2[r as usize] * coef;
@@ -442,19 +365,13 @@ impl<'a> AngleProblem<'a> {
                 let (rb, ra) = (self.row(tri[(k + 2) % 3], 1), self.row(tri[(k + 1) % 3], 1));
                 let mut h = base;
                 if rb != NONE {
-                    let second = if self.log_form {
-                        -1.0 / (lin.sin[c] * lin.sin[c])
-                    } else {
-                        -lin.p_next[(rb / 2) as usize]
-                    };
+                    let second =
+                        if self.log_form { -1.0 / (lin.sin[c] * lin.sin[c]) } else { -lin.p_next[(rb / 2) as usize] };
                     h += s.lambda2[rb as usize] * second;
                 }
                 if ra != NONE {
-                    let second = if self.log_form {
-                        1.0 / (lin.sin[c] * lin.sin[c])
-                    } else {
-                        lin.p_prev[(ra / 2) as usize]
-                    };
+                    let second =
+                        if self.log_form { 1.0 / (lin.sin[c] * lin.sin[c]) } else { lin.p_prev[(ra / 2) as usize] };
                     h += s.lambda2[ra as usize] * second;
                 }
                 h.max(0.5 * base)
@@ -518,21 +435,13 @@ impl<'a> AngleProblem<'a> {
                 continue;
             }
             let star = &corners[start[i]..start[i + 1]];
-            for (offset, sign, product) in
-                [(1usize, 1.0, lin.p_next[i]), (2usize, -1.0, lin.p_prev[i])]
-            {
+            for (offset, sign, product) in [(1usize, 1.0, lin.p_next[i]), (2usize, -1.0, lin.p_prev[i])] {
                 let scale = lambda * sign * product;
-                let others: Vec<usize> = star
-                    .iter()
-                    .map(|&c| 3 * (c as usize / 3) + (c as usize % 3 + offset) % 3)
-                    .collect();
+                let others: Vec<usize> =
+                    star.iter().map(|&c| 3 * (c as usize / 3) + (c as usize % 3 + offset) % 3).collect();
                 for &a in &others {
                     for &b in &others {
-                        let value = if a == b {
-                            -scale
-                        } else {
-                            scale * lin.cot[a] * lin.cot[b]
-                        };
+                        let value = if a == b { -scale } else { scale * lin.cot[a] * lin.cot[b] };
                         kkt.add(a, b, value);
                     }
                 }
@@ -585,9 +494,8 @@ fn packed(a: usize, b: usize) -> usize {
 impl ReducedSystem {
     fn new(problem: &AngleProblem, mesh: &TriMesh) -> Result<Self> {
         let n2 = 2 * problem.n_int;
-        let local_rows = |tri: &[u32; 3]| -> [u32; 6] {
-            std::array::from_fn(|j| problem.row(tri[j / 2], (j % 2) as u32))
-        };
+        let local_rows =
+            |tri: &[u32; 3]| -> [u32; 6] { std::array::from_fn(|j| problem.row(tri[j / 2], (j % 2) as u32)) };
         let mut entries = Vec::with_capacity(15 * problem.tris.len());
         for tri in problem.tris {
             let rows = local_rows(tri);
@@ -628,21 +536,15 @@ impl ReducedSystem {
         let mut vertex_entries = Vec::with_capacity(3 * problem.tris.len());
         for tri in problem.tris {
             for a in 0..3 {
-                let (i, j) = (
-                    problem.interior[tri[a] as usize],
-                    problem.interior[tri[(a + 1) % 3] as usize],
-                );
+                let (i, j) = (problem.interior[tri[a] as usize], problem.interior[tri[(a + 1) % 3] as usize]);
                 if i != NONE && j != NONE {
                     vertex_entries.push((i.max(j), i.min(j), 0.0));
                 }
             }
         }
         let vertex_graph = lower_from_entries(&vec![0.0; problem.n_int], vertex_entries)?;
-        let adjacency = Adjacency::from_lower(
-            problem.n_int,
-            vertex_graph.symbolic().col_ptr(),
-            vertex_graph.symbolic().row_idx(),
-        );
+        let adjacency =
+            Adjacency::from_lower(problem.n_int, vertex_graph.symbolic().col_ptr(), vertex_graph.symbolic().row_idx());
         let mut coords = vec![[0.0; 3]; problem.n_int];
         for v in 0..mesh.vertex_count() {
             let i = problem.interior[v];
@@ -653,27 +555,15 @@ impl ReducedSystem {
         let order: Vec<usize> = if problem.n_int == 0 {
             Vec::new()
         } else {
-            nested_dissection(&adjacency, &coords)
-                .into_iter()
-                .flat_map(|i| [2 * i, 2 * i + 1])
-                .collect()
+            nested_dissection(&adjacency, &coords).into_iter().flat_map(|i| [2 * i, 2 * i + 1]).collect()
         };
         let pattern = CholeskyPattern::with_order(matrix.symbolic(), Some(order))?;
-        Ok(ReducedSystem {
-            matrix,
-            slots,
-            pattern,
-        })
+        Ok(ReducedSystem { matrix, slots, pattern })
     }
 
     /// One ABF++ Gauss–Newton step (Sheffer et al. 2005, §3): assemble `J2 M J2ᵀ` triangle by
     /// triangle, solve for δλ_2 by Cholesky, then recover δλ_T and δα per triangle.
-    fn gauss_newton_step(
-        &mut self,
-        p: &AngleProblem,
-        lin: &Linearization,
-        s: &mut State,
-    ) -> Result<()> {
+    fn gauss_newton_step(&mut self, p: &AngleProblem, lin: &Linearization, s: &mut State) -> Result<()> {
         let f = p.tris.len();
         let n2 = 2 * p.n_int;
         // Λ⁻¹ = diag(d), d = 1 / (2w); b1 = −∂L/∂α.
@@ -714,16 +604,13 @@ impl ReducedSystem {
                 }
             }
             // G = J D Jᵀ − (J d)(J d)ᵀ / Σd.
-            let jd: [f64; 6] =
-                std::array::from_fn(|j| jl[j][0] * dt[0] + jl[j][1] * dt[1] + jl[j][2] * dt[2]);
+            let jd: [f64; 6] = std::array::from_fn(|j| jl[j][0] * dt[0] + jl[j][1] * dt[1] + jl[j][2] * dt[2]);
             let values = self.matrix.val_mut();
             for a in 0..6 {
                 for b in 0..=a {
                     let slot = self.slots[t][packed(a, b)];
                     if slot != usize::MAX {
-                        let g = jl[a][0] * dt[0] * jl[b][0]
-                            + jl[a][1] * dt[1] * jl[b][1]
-                            + jl[a][2] * dt[2] * jl[b][2]
+                        let g = jl[a][0] * dt[0] * jl[b][0] + jl[a][1] * dt[1] * jl[b][1] + jl[a][2] * dt[2] * jl[b][2]
                             - jd[a] * jd[b] / sum_d;
                         values[slot] += g;
                     }
@@ -734,9 +621,7 @@ impl ReducedSystem {
             rhs[(r, 0)] += lin.c2[r];
         }
         if n2 > 0 {
-            self.pattern
-                .factor(&self.matrix)?
-                .solve_in_place(&mut rhs)?;
+            self.pattern.factor(&self.matrix)?.solve_in_place(&mut rhs)?;
         }
         let dl2 = rhs.col_as_slice(0);
         require_finite(dl2.iter().copied(), "ABF++ reduced")?;

@@ -73,7 +73,11 @@ pub struct FixedBoundaryOptions {
 
 impl Default for FixedBoundaryOptions {
     fn default() -> Self {
-        FixedBoundaryOptions { weights: Weights::MeanValue, shape: BoundaryShape::Circle, distribution: Distribution::ChordLength }
+        FixedBoundaryOptions {
+            weights: Weights::MeanValue,
+            shape: BoundaryShape::Circle,
+            distribution: Distribution::ChordLength,
+        }
     }
 }
 
@@ -90,7 +94,9 @@ pub fn fixed_boundary_map_with_progress(
 ) -> Result<Vec<[f64; 2]>> {
     if let Weights::Intrinsic { lambda, mu } = options.weights {
         if !(lambda.is_finite() && mu.is_finite()) || (lambda == 0.0 && mu == 0.0) {
-            return Err(Error::InvalidArgument(format!("intrinsic weights need finite λ, μ not both zero (got λ = {lambda}, μ = {mu})")));
+            return Err(Error::InvalidArgument(format!(
+                "intrinsic weights need finite λ, μ not both zero (got λ = {lambda}, μ = {mu})"
+            )));
         }
     }
     mesh.require_disk_with_holes()?;
@@ -111,7 +117,8 @@ pub fn fixed_boundary_map_with_progress(
     let weights = vertex_weights(work, options.weights, &unknown.index);
     progress.report(0.2)?;
     let coords = unknown.positions(work);
-    let solution = solve_weighted_system(&unknown, &coords, &weights, &fixed_uv, options.weights.is_symmetric(), progress)?;
+    let solution =
+        solve_weighted_system(&unknown, &coords, &weights, &fixed_uv, options.weights.is_symmetric(), progress)?;
     let uv: Vec<[f64; 2]> = (0..mesh.vertex_count())
         .map(|v| match unknown.index[v] {
             NONE => fixed_uv[v],

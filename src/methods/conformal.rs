@@ -116,7 +116,10 @@ pub fn resolve_pins(mesh: &TriMesh, pins: Option<[Pin; 2]>) -> Result<[Pin; 2]> 
 fn check_pins(mesh: &TriMesh, pins: [Pin; 2]) -> Result<[Pin; 2]> {
     for (v, p) in pins {
         if v as usize >= mesh.vertex_count() {
-            return Err(Error::InvalidArgument(format!("pinned vertex {v} is out of range: the mesh has {} vertices", mesh.vertex_count())));
+            return Err(Error::InvalidArgument(format!(
+                "pinned vertex {v} is out of range: the mesh has {} vertices",
+                mesh.vertex_count()
+            )));
         }
         if !mesh.is_referenced(v) {
             return Err(Error::InvalidArgument(format!("pinned vertex {v} is not used by any triangle")));
@@ -126,7 +129,10 @@ fn check_pins(mesh: &TriMesh, pins: [Pin; 2]) -> Result<[Pin; 2]> {
         }
     }
     if pins[0].0 == pins[1].0 {
-        return Err(Error::InvalidArgument(format!("the two pins must be different vertices (both are {})", pins[0].0)));
+        return Err(Error::InvalidArgument(format!(
+            "the two pins must be different vertices (both are {})",
+            pins[0].0
+        )));
     }
     if pins[0].1 == pins[1].1 {
         return Err(Error::InvalidArgument("the two pins must have different positions".into()));
@@ -189,10 +195,16 @@ fn assemble_conformal_system(
     let step = halfedges.div_ceil(RANGES);
     let parts: Vec<EdgeTerms> = (0..RANGES)
         .into_par_iter()
-        .map(|k| edge_terms(mesh, cot, index, count, pinned, (k * step).min(halfedges)..((k + 1) * step).min(halfedges)))
+        .map(|k| {
+            edge_terms(mesh, cot, index, count, pinned, (k * step).min(halfedges)..((k + 1) * step).min(halfedges))
+        })
         .collect();
     let mut diagonal = vec![c64::new(0.0, 0.0); count];
-    diagonal.par_iter_mut().enumerate().with_min_len(4096).for_each(|(r, d)| d.re = parts.iter().map(|p| p.diagonal[r]).sum());
+    diagonal
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(4096)
+        .for_each(|(r, d)| d.re = parts.iter().map(|p| p.diagonal[r]).sum());
     let mut rhs = Mat::<c64>::zeros(count, 1);
     let mut lower = Vec::with_capacity(parts.iter().map(|p| p.lower.len()).sum());
     for part in parts {
@@ -216,11 +228,19 @@ struct EdgeTerms {
 
 /// The contributions of the edges whose first half-edge (the boundary one, or the lower of the
 /// two) lies in `halfedges`.
-fn edge_terms(mesh: &TriMesh, cot: &[[f64; 3]], index: &[u32], count: usize, pinned: &[Option<c64>], halfedges: std::ops::Range<usize>) -> EdgeTerms {
+fn edge_terms(
+    mesh: &TriMesh,
+    cot: &[[f64; 3]],
+    index: &[u32],
+    count: usize,
+    pinned: &[Option<c64>],
+    halfedges: std::ops::Range<usize>,
+) -> EdgeTerms {
     let twin = &mesh.connectivity().twin;
     // Half the cotangent of the corner opposite half-edge h.
     let half_cot = |h: u32| 0.5 * cot[(h / 3) as usize][((h % 3 + 2) % 3) as usize];
-    let mut terms = EdgeTerms { diagonal: vec![0.0; count], lower: Vec::with_capacity(halfedges.len() / 2 + 1), rhs: Vec::new() };
+    let mut terms =
+        EdgeTerms { diagonal: vec![0.0; count], lower: Vec::with_capacity(halfedges.len() / 2 + 1), rhs: Vec::new() };
     for h in halfedges {
         let (h, t) = (h as u32, twin[h]);
         if t != NONE && t < h {

@@ -66,10 +66,18 @@ pub fn vertex_constraint(mesh: &TriMesh, vertex: u32, uv: [f64; 2]) -> Option<Po
 
 /// Constraints mapping a polyline of surface points (triangle, barycentric) onto the segment
 /// from `from` to `to`, spaced by 3D chord length (the first point to `from`, the last to `to`).
-pub fn line_constraints(mesh: &TriMesh, points: &[(u32, [f64; 3])], from: [f64; 2], to: [f64; 2]) -> Result<Vec<PointConstraint>> {
+pub fn line_constraints(
+    mesh: &TriMesh,
+    points: &[(u32, [f64; 3])],
+    from: [f64; 2],
+    to: [f64; 2],
+) -> Result<Vec<PointConstraint>> {
     let position = |&(t, b): &(u32, [f64; 3])| -> Result<[f64; 3]> {
         let tri = mesh.triangles().get(t as usize).ok_or_else(|| {
-            Error::InvalidArgument(format!("line point on triangle {t}, but the mesh has {} triangles", mesh.triangle_count()))
+            Error::InvalidArgument(format!(
+                "line point on triangle {t}, but the mesh has {} triangles",
+                mesh.triangle_count()
+            ))
         })?;
         let s = b[0] + b[1] + b[2];
         let mut p = [0.0; 3];
@@ -92,8 +100,18 @@ pub fn line_constraints(mesh: &TriMesh, points: &[(u32, [f64; 3])], from: [f64; 
         .zip(&arc)
         .enumerate()
         .map(|(i, (&(triangle, barycentric), &s))| {
-            let f = if total > 0.0 { s / total } else if points.len() > 1 { i as f64 / (points.len() - 1) as f64 } else { 0.0 };
-            PointConstraint { triangle, barycentric, uv: [from[0] + f * (to[0] - from[0]), from[1] + f * (to[1] - from[1])] }
+            let f = if total > 0.0 {
+                s / total
+            } else if points.len() > 1 {
+                i as f64 / (points.len() - 1) as f64
+            } else {
+                0.0
+            };
+            PointConstraint {
+                triangle,
+                barycentric,
+                uv: [from[0] + f * (to[0] - from[0]), from[1] + f * (to[1] - from[1])],
+            }
         })
         .collect())
 }
@@ -102,12 +120,18 @@ pub fn line_constraints(mesh: &TriMesh, points: &[(u32, [f64; 3])], from: [f64; 
 /// barycentric coordinates; zero weights dropped).
 fn constraint_terms(mesh: &TriMesh, i: usize, c: &PointConstraint) -> Result<Vec<(u32, f64)>> {
     let tri = mesh.triangles().get(c.triangle as usize).ok_or_else(|| {
-        Error::InvalidArgument(format!("constraint {i} is on triangle {}, but the mesh has {} triangles", c.triangle, mesh.triangle_count()))
+        Error::InvalidArgument(format!(
+            "constraint {i} is on triangle {}, but the mesh has {} triangles",
+            c.triangle,
+            mesh.triangle_count()
+        ))
     })?;
     let b = c.barycentric;
     let sum = b[0] + b[1] + b[2];
     if !(b.iter().all(|x| x.is_finite()) && c.uv.iter().all(|x| x.is_finite())) {
-        return Err(Error::InvalidArgument(format!("constraint {i} has a non-finite barycentric coordinate or target")));
+        return Err(Error::InvalidArgument(format!(
+            "constraint {i} has a non-finite barycentric coordinate or target"
+        )));
     }
     if !(sum.abs() > 1e-12 * (b[0].abs() + b[1].abs() + b[2].abs())) || sum == 0.0 {
         return Err(Error::InvalidArgument(format!("constraint {i}: barycentric coordinates {b:?} sum to zero")));
@@ -117,7 +141,10 @@ fn constraint_terms(mesh: &TriMesh, i: usize, c: &PointConstraint) -> Result<Vec
 
 fn check_not_empty(constraints: &[PointConstraint], at_least: usize) -> Result<()> {
     if constraints.len() < at_least {
-        return Err(Error::InvalidArgument(format!("at least {at_least} constraint(s) needed, {} given", constraints.len())));
+        return Err(Error::InvalidArgument(format!(
+            "at least {at_least} constraint(s) needed, {} given",
+            constraints.len()
+        )));
     }
     Ok(())
 }
@@ -132,11 +159,14 @@ pub fn constrained_fixed_boundary_map(
 ) -> Result<Vec<[f64; 2]>> {
     if let super::barycentric::Weights::Intrinsic { lambda, mu } = options.weights {
         if !(lambda.is_finite() && mu.is_finite()) || (lambda == 0.0 && mu == 0.0) {
-            return Err(Error::InvalidArgument(format!("intrinsic weights need finite λ, μ not both zero (got λ = {lambda}, μ = {mu})")));
+            return Err(Error::InvalidArgument(format!(
+                "intrinsic weights need finite λ, μ not both zero (got λ = {lambda}, μ = {mu})"
+            )));
         }
     }
     mesh.require_disk_with_holes()?;
-    let terms = constraints.iter().enumerate().map(|(i, c)| constraint_terms(mesh, i, c)).collect::<Result<Vec<_>>>()?;
+    let terms =
+        constraints.iter().enumerate().map(|(i, c)| constraint_terms(mesh, i, c)).collect::<Result<Vec<_>>>()?;
     let boundary = fixed_boundary(mesh, &options.shape, options.distribution)?;
     progress.report(0.05)?;
     let filled;
@@ -176,7 +206,12 @@ pub fn constrained_fixed_boundary_map(
     let d = &targets - &fixed_part;
     let x = solve_constrained(|m: &mut Mat<f64>| system.solve_in_place(m), system.rhs(&fixed_uv), &rows, &d, &kept)?;
     progress.report(0.95)?;
-    let scale = 1.0 + fixed_uv.iter().chain(constraints.iter().map(|c| &c.uv)).filter(|p| p[0].is_finite()).fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let scale = 1.0
+        + fixed_uv
+            .iter()
+            .chain(constraints.iter().map(|c| &c.uv))
+            .filter(|p| p[0].is_finite())
+            .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
     check_dropped(&rows, &targets, &fixed_part, &kept, &x, 1e-9 * scale)?;
     let mut uv = system.scatter(&x, &fixed_uv)?;
     uv.truncate(mesh.vertex_count());
@@ -186,13 +221,20 @@ pub fn constrained_fixed_boundary_map(
 
 /// Natural conformal map (free boundary) with point constraints instead of two pins: any
 /// number ≥ 2 of constraints, not all with the same target.
-pub fn constrained_natural_conformal_map(mesh: &TriMesh, constraints: &[PointConstraint], progress: &mut Progress) -> Result<Vec<[f64; 2]>> {
+pub fn constrained_natural_conformal_map(
+    mesh: &TriMesh,
+    constraints: &[PointConstraint],
+    progress: &mut Progress,
+) -> Result<Vec<[f64; 2]>> {
     mesh.require_disk_with_holes()?;
     check_not_empty(constraints, 2)?;
-    let terms = constraints.iter().enumerate().map(|(i, c)| constraint_terms(mesh, i, c)).collect::<Result<Vec<_>>>()?;
+    let terms =
+        constraints.iter().enumerate().map(|(i, c)| constraint_terms(mesh, i, c)).collect::<Result<Vec<_>>>()?;
     let first_target = constraints[0].uv;
     if constraints.iter().all(|c| c.uv == first_target) {
-        return Err(Error::InvalidArgument("all constraints have the same target: the map would collapse to a point".into()));
+        return Err(Error::InvalidArgument(
+            "all constraints have the same target: the map would collapse to a point".into(),
+        ));
     }
     // Rows over all vertices decide independence.
     let full: Vec<SparseRow> = terms.iter().map(|t| t.iter().map(|&(v, w)| (v as usize, w)).collect()).collect();
@@ -260,7 +302,7 @@ pub fn constrained_natural_conformal_map(mesh: &TriMesh, constraints: &[PointCon
         out
     };
     let c_f_gy = rows_times(&reduced, &gy); // m × (2 + m): [C_f G, C_f Y]
-    // KKT in (z_p, λ): [P Q; R −S] [z_p; λ] = [0; d].
+                                            // KKT in (z_p, λ): [P Q; R −S] [z_p; λ] = [0; d].
     let size = 2 + m;
     let mut kkt = Mat::<c64>::zeros(size, size);
     for col in 0..size {
@@ -273,7 +315,13 @@ pub fn constrained_natural_conformal_map(mesh: &TriMesh, constraints: &[PointCon
             kkt[(2 + r, col)] = if col < 2 { c_p[(r, col)] - c_f_gy[(r, col)] } else { -c_f_gy[(r, col)] };
         }
     }
-    let rhs = Mat::<c64>::from_fn(size, 1, |r, _| if r < 2 { c64::new(0.0, 0.0) } else { c64::new(constraints[kept[r - 2]].uv[0], constraints[kept[r - 2]].uv[1]) });
+    let rhs = Mat::<c64>::from_fn(size, 1, |r, _| {
+        if r < 2 {
+            c64::new(0.0, 0.0)
+        } else {
+            c64::new(constraints[kept[r - 2]].uv[0], constraints[kept[r - 2]].uv[1])
+        }
+    });
     let mut solution = dense_solve(&kkt, &rhs)?;
     let residual = &kkt * &solution - &rhs;
     solution -= dense_solve(&kkt, &residual)?;
@@ -330,9 +378,12 @@ pub fn pinned_natural_conformal_map(mesh: &TriMesh, pins: &[Pin], progress: &mut
         .iter()
         .map(|&(v, uv)| {
             if v as usize >= mesh.vertex_count() || !mesh.is_referenced(v) {
-                return Err(Error::InvalidArgument(format!("pinned vertex {v} is not a vertex of the mesh's triangles")));
+                return Err(Error::InvalidArgument(format!(
+                    "pinned vertex {v} is not a vertex of the mesh's triangles"
+                )));
             }
-            vertex_constraint(mesh, v, uv).ok_or_else(|| Error::InvalidArgument(format!("pinned vertex {v} is in no triangle")))
+            vertex_constraint(mesh, v, uv)
+                .ok_or_else(|| Error::InvalidArgument(format!("pinned vertex {v} is in no triangle")))
         })
         .collect::<Result<Vec<_>>>()?;
     constrained_natural_conformal_map(mesh, &constraints, progress)

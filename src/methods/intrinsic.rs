@@ -67,10 +67,13 @@ impl BoundaryEditor {
     /// boundary fixed.
     pub fn new(mesh: &TriMesh, lambda: f64, mu: f64, progress: &mut Progress) -> Result<Self> {
         if !(lambda.is_finite() && mu.is_finite()) || (lambda == 0.0 && mu == 0.0) {
-            return Err(Error::InvalidArgument(format!("intrinsic weights need finite λ, μ not both zero (got λ = {lambda}, μ = {mu})")));
+            return Err(Error::InvalidArgument(format!(
+                "intrinsic weights need finite λ, μ not both zero (got λ = {lambda}, μ = {mu})"
+            )));
         }
         mesh.require_disk_with_holes()?;
-        let outer = mesh.longest_boundary_loop().ok_or(Error::NotADisk { components: 1, boundary_loops: 0, genus: 0 })?;
+        let outer =
+            mesh.longest_boundary_loop().ok_or(Error::NotADisk { components: 1, boundary_loops: 0, genus: 0 })?;
         let boundary = mesh.boundary_loops()[outer].clone();
         progress.report(0.05)?;
         let keep: Vec<bool> = (0..mesh.boundary_loops().len()).map(|i| i == outer).collect();
@@ -88,7 +91,13 @@ impl BoundaryEditor {
         let system = FixedSystem::new(work, Weights::Intrinsic { lambda, mu }, |v| is_fixed[v as usize])?;
         progress.report(1.0)?;
         let referenced = (0..mesh.vertex_count() as u32).map(|v| mesh.is_referenced(v)).collect();
-        Ok(BoundaryEditor { boundary, vertex_count: mesh.vertex_count(), work_vertex_count: work.vertex_count(), referenced, system })
+        Ok(BoundaryEditor {
+            boundary,
+            vertex_count: mesh.vertex_count(),
+            work_vertex_count: work.vertex_count(),
+            referenced,
+            system,
+        })
     }
 
     /// The outer boundary loop's vertices, in the order [`Self::solve`] expects their UVs.
@@ -147,7 +156,9 @@ impl BoundaryEditor {
         let n = self.vertex_count;
         let b = self.boundary.len();
         let mut values = Vec::new();
-        values.try_reserve_exact(bytes / 8).map_err(|_| Error::Internal(format!("out of memory for {bytes} bytes of Green basis")))?;
+        values
+            .try_reserve_exact(bytes / 8)
+            .map_err(|_| Error::Internal(format!("out of memory for {bytes} bytes of Green basis")))?;
         values.resize(n * b, 0.0);
         // Column of each boundary vertex.
         let mut column = vec![NONE; self.work_vertex_count];

@@ -47,8 +47,8 @@
 use crate::boundary::{BoundaryShape, Distribution};
 use crate::error::{Error, Result};
 use crate::geometry::{cross, dot, norm, sub};
-use crate::methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions, Weights};
 use crate::mesh::{TriMesh, NONE};
+use crate::methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions, Weights};
 
 /// Spherical parameterization method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -203,7 +203,8 @@ fn unreferenced_to_nan(mesh: &TriMesh, points: &mut [[f64; 3]]) {
 /// Projected Gauss–Seidel barycentric iteration with re-centring.
 fn gauss_seidel(mesh: &TriMesh, sweeps: usize) -> Vec<[f64; 3]> {
     let c = centroid(mesh, mesh.points());
-    let mut x: Vec<[f64; 3]> = mesh.points().iter().map(|p| normalize([p[0] - c[0], p[1] - c[1], p[2] - c[2]])).collect();
+    let mut x: Vec<[f64; 3]> =
+        mesh.points().iter().map(|p| normalize([p[0] - c[0], p[1] - c[1], p[2] - c[2]])).collect();
     let (start, list) = neighbours(mesh);
     for _ in 0..sweeps {
         for v in 0..mesh.vertex_count() {
@@ -267,7 +268,11 @@ fn stereographic(mesh: &TriMesh) -> Result<Vec<[f64; 3]>> {
         .collect();
     let uv = fixed_boundary_map(
         &disk,
-        &FixedBoundaryOptions { weights: Weights::Conformal, shape: BoundaryShape::Given(given), distribution: Distribution::Uniform },
+        &FixedBoundaryOptions {
+            weights: Weights::Conformal,
+            shape: BoundaryShape::Given(given),
+            distribution: Distribution::Uniform,
+        },
     )?;
     // Centre on the mean, scale so that the median radius is 1 (half the vertices per hemisphere).
     let referenced: Vec<usize> = (0..mesh.vertex_count()).filter(|&v| mesh.is_referenced(v as u32)).collect();
@@ -308,7 +313,11 @@ fn tutte_gnomonic(mesh: &TriMesh, sweeps: usize) -> Result<Vec<[f64; 3]>> {
         .collect();
     let uv = fixed_boundary_map(
         &disk,
-        &FixedBoundaryOptions { weights: Weights::MeanValue, shape: BoundaryShape::Given(given), distribution: Distribution::Uniform },
+        &FixedBoundaryOptions {
+            weights: Weights::MeanValue,
+            shape: BoundaryShape::Given(given),
+            distribution: Distribution::Uniform,
+        },
     )?;
     let mut x: Vec<[f64; 3]> = uv.iter().map(|p| normalize([p[0], p[1], 1.0])).collect();
     x[s as usize] = [0.0, 0.0, -1.0];
@@ -372,7 +381,11 @@ fn guarded_relaxation(mesh: &TriMesh, x: &mut [[f64; 3]], sweeps: usize) {
             let old = x[v];
             let mut step = 1.0;
             for _ in 0..4 {
-                let p = [old[0] + step * (target[0] - old[0]), old[1] + step * (target[1] - old[1]), old[2] + step * (target[2] - old[2])];
+                let p = [
+                    old[0] + step * (target[0] - old[0]),
+                    old[1] + step * (target[1] - old[1]),
+                    old[2] + step * (target[2] - old[2]),
+                ];
                 if norm(p) > 0.0 {
                     let p = normalize(p);
                     if all_positive(x, v, p) {
@@ -393,8 +406,14 @@ mod tests {
     /// An icosphere-like mesh: the octahedron subdivided `levels` times, pushed onto an
     /// ellipsoid.
     fn ellipsoid(levels: usize, axes: [f64; 3]) -> TriMesh {
-        let mut p: Vec<[f64; 3]> =
-            vec![[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]];
+        let mut p: Vec<[f64; 3]> = vec![
+            [1.0, 0.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+        ];
         let mut t: Vec<[u32; 3]> =
             vec![[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]];
         for _ in 0..levels {
@@ -421,11 +440,13 @@ mod tests {
     #[test]
     fn tutte_gnomonic_never_flips_and_stays_on_the_sphere() {
         let mesh = ellipsoid(3, [3.0, 1.0, 0.5]);
-        let map = spherical_map(&mesh, &SphereOptions { method: SphereMethod::TutteGnomonic, sweeps: 50 }).expect("map");
+        let map =
+            spherical_map(&mesh, &SphereOptions { method: SphereMethod::TutteGnomonic, sweeps: 50 }).expect("map");
         assert_eq!(map.flipped, 0);
         assert!(map.positions.iter().all(|p| (norm(*p) - 1.0).abs() < 1e-12));
         // Before any relaxation, the construction alone is flip-free.
-        let map0 = spherical_map(&mesh, &SphereOptions { method: SphereMethod::TutteGnomonic, sweeps: 0 }).expect("map");
+        let map0 =
+            spherical_map(&mesh, &SphereOptions { method: SphereMethod::TutteGnomonic, sweeps: 0 }).expect("map");
         assert_eq!(map0.flipped, 0);
     }
 

@@ -20,10 +20,8 @@ pub const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshe
 
 pub const EIGEN_INCLUDE: &str = "/usr/include/eigen3";
 /// Headers whose absence means CGAL or Eigen is not installed.
-const REQUIRED_HEADERS: [&str; 2] = [
-    "/usr/include/CGAL/Surface_mesh_parameterization/LSCM_parameterizer_3.h",
-    "/usr/include/eigen3/Eigen/Sparse",
-];
+const REQUIRED_HEADERS: [&str; 2] =
+    ["/usr/include/CGAL/Surface_mesh_parameterization/LSCM_parameterizer_3.h", "/usr/include/eigen3/Eigen/Sparse"];
 pub const INSTALL_HINT: &str = "CGAL reference unavailable: apt-get install libcgal-dev libeigen3-dev";
 
 /// The CGAL methods the reference program runs, with uvflat's counterpart.
@@ -224,8 +222,7 @@ pub fn boundary_vertices(triangles: &[u32]) -> Vec<u32> {
             *edge_count.entry((a.min(b), a.max(b))).or_insert(0u32) += 1;
         }
     }
-    let mut vertices: Vec<u32> =
-        edge_count.iter().filter(|(_, &c)| c == 1).flat_map(|(&(a, b), _)| [a, b]).collect();
+    let mut vertices: Vec<u32> = edge_count.iter().filter(|(_, &c)| c == 1).flat_map(|(&(a, b), _)| [a, b]).collect();
     vertices.sort_unstable();
     vertices.dedup();
     vertices
@@ -247,7 +244,11 @@ pub fn bbox_diagonal(uv: &[[f64; 2]]) -> f64 {
 pub fn median(mut values: Vec<f64>) -> f64 {
     values.sort_by(|a, b| a.total_cmp(b));
     let n = values.len();
-    if n % 2 == 1 { values[n / 2] } else { 0.5 * (values[n / 2 - 1] + values[n / 2]) }
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
 }
 
 /// Positions (3 per vertex) and triangles (3 per face, 0-based) of a plain OBJ with only `v`

@@ -71,16 +71,15 @@ pub fn run(mut command: Command) -> Result<String, String> {
     if output.status.success() {
         Ok(text(&output.stdout))
     } else {
-        Err(format!(
-            "{shown} failed ({}):\n{}\n{}",
-            output.status,
-            text(&output.stderr),
-            text(&output.stdout)
-        ))
+        Err(format!("{shown} failed ({}):\n{}\n{}", output.status, text(&output.stderr), text(&output.stdout)))
     }
 }
 
 /// The command line, without the environment `cc` attaches.
 pub fn describe(command: &Command) -> String {
-    std::iter::once(command.get_program()).chain(command.get_args()).map(|a| a.to_string_lossy()).collect::<Vec<_>>().join(" ")
+    std::iter::once(command.get_program())
+        .chain(command.get_args())
+        .map(|a| a.to_string_lossy())
+        .collect::<Vec<_>>()
+        .join(" ")
 }

@@ -8,8 +8,8 @@
 
 use super::coarsen::{coarsen, Coarsening};
 use super::graph::{Graph, Rng};
-use super::refine::{refine, Bisection};
 use super::node_refine::refine_separator;
+use super::refine::{refine, Bisection};
 use super::separator::min_cover_separator;
 
 /// Coarsening stops at this many vertices.

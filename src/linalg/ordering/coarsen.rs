@@ -122,7 +122,8 @@ fn contract(g: &Graph, map: &[u32], members: &[[u32; 2]]) -> Graph {
                 }
             }
         }
-        let registered = !slot.is_empty() && adjncy.len() - row_start >= LONG_ROW && slot[adjncy[row_start] as usize] != NONE;
+        let registered =
+            !slot.is_empty() && adjncy.len() - row_start >= LONG_ROW && slot[adjncy[row_start] as usize] != NONE;
         if registered {
             for &cy in &adjncy[row_start..] {
                 slot[cy as usize] = NONE;

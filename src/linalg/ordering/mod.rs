@@ -21,8 +21,8 @@ pub mod refine;
 pub mod separator;
 
 use graph::{Graph, Rng};
-use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 use separator::SEPARATOR;
+use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 /// Symmetric adjacency in compressed rows, without the diagonal.
 pub struct Adjacency {
@@ -265,15 +265,26 @@ fn plane_split(set: &mut [u32], points: &[[f64; 3]], cx: &Context) -> Split {
     let g = cx.graph;
     let side_of = |u: u32| {
         let s = cx.stamp[u as usize].load(Relaxed);
-        if s == lower_id { 0 } else if s == upper_id { 1 } else { 2 }
+        if s == lower_id {
+            0
+        } else if s == upper_id {
+            1
+        } else {
+            2
+        }
     };
     let touches = |v: u32, other: u8| g.neighbors(v).iter().any(|&u| side_of(u) == other);
     let left: Vec<u32> = lower.iter().copied().filter(|&v| touches(v, 1)).collect();
     let right: Vec<u32> = upper.iter().copied().filter(|&v| touches(v, 0)).collect();
-    let cover = separator::min_vertex_cover(&left, &right, |v| g.neighbors(v), |v, u| {
-        let (a, b) = (side_of(v), side_of(u));
-        a != b && a < 2 && b < 2
-    });
+    let cover = separator::min_vertex_cover(
+        &left,
+        &right,
+        |v| g.neighbors(v),
+        |v, u| {
+            let (a, b) = (side_of(v), side_of(u));
+            a != b && a < 2 && b < 2
+        },
+    );
     // Mark the cover with a third id so the sides can be read off the stamps.
     let cover_id = claim(&cover, cx);
     let mut split = Split { sides: [Vec::new(), Vec::new()], separator: cover };

@@ -94,7 +94,8 @@ pub fn refine_separator(g: &Graph, part: &mut [u8], max_side: u64, passes: usize
 
 /// Gain of moving separator vertex `v` into side `s`.
 fn gain(g: &Graph, part: &[u8], v: u32, s: u8) -> i64 {
-    let pulled: i64 = g.neighbors(v).iter().filter(|&&u| part[u as usize] == 1 - s).map(|&u| g.vwgt[u as usize] as i64).sum();
+    let pulled: i64 =
+        g.neighbors(v).iter().filter(|&&u| part[u as usize] == 1 - s).map(|&u| g.vwgt[u as usize] as i64).sum();
     g.vwgt[v as usize] as i64 - pulled
 }
 

@@ -17,7 +17,11 @@ pub fn min_cover_separator(g: &Graph, side: &[u8]) -> Vec<u8> {
     let (mut left, mut right) = (Vec::new(), Vec::new());
     for v in 0..g.n() as u32 {
         if crosses(v) {
-            if side[v as usize] == 0 { left.push(v) } else { right.push(v) }
+            if side[v as usize] == 0 {
+                left.push(v)
+            } else {
+                right.push(v)
+            }
         }
     }
     let mut part = side.to_vec();
@@ -53,7 +57,12 @@ struct CutGraph {
 }
 
 impl CutGraph {
-    fn new<'g>(left: &[u32], right: &[u32], neighbors: impl Fn(u32) -> &'g [u32], across: impl Fn(u32, u32) -> bool) -> Self {
+    fn new<'g>(
+        left: &[u32],
+        right: &[u32],
+        neighbors: impl Fn(u32) -> &'g [u32],
+        across: impl Fn(u32, u32) -> bool,
+    ) -> Self {
         let mut local = std::collections::HashMap::with_capacity(left.len() + right.len());
         for (k, &v) in left.iter().chain(right).enumerate() {
             local.insert(v, k as u32);

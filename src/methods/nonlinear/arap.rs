@@ -34,49 +34,32 @@ pub(crate) fn minimize(
 ) -> Result<Run> {
     let (solver, delta) = problem.laplacian(1e-8)?;
     let inv = 1.0 / problem.frames.total_area;
-    descend(
-        problem,
-        Energy::Arap,
-        x0,
-        options,
-        progress,
-        |x, _grad, reset| {
-            if reset {
-                return Ok(None);
+    descend(problem, Energy::Arap, x0, options, progress, |x, _grad, reset| {
+        if reset {
+            return Ok(None);
+        }
+        // Local step: per-triangle rotations, then their right-hand side contributions.
+        let contributions: Vec<[[f64; 2]; 3]> = problem
+            .tris
+            .par_iter()
+            .enumerate()
+            .with_min_len(1024)
+            .map(|(t, &tri)| {
+                let r = Svd2::new(&problem.frames.jacobian(t, tri, x)).rotation();
+                let w = problem.frames.area[t] * inv;
+                problem.frames.grad[t]
+                    .map(|g| [w * (r[0][0] * g[0] + r[0][1] * g[1]), w * (r[1][0] * g[0] + r[1][1] * g[1])])
+            })
+            .collect();
+        let mut rhs: Vec<[f64; 2]> = x.iter().map(|p| [delta * p[0], delta * p[1]]).collect();
+        for (tri, c) in problem.tris.iter().zip(&contributions) {
+            for k in 0..3 {
+                let b = &mut rhs[tri[k] as usize];
+                b[0] += c[k][0];
+                b[1] += c[k][1];
             }
-            // Local step: per-triangle rotations, then their right-hand side contributions.
-            let contributions: Vec<[[f64; 2]; 3]> = problem
-                .tris
-                .par_iter()
-                .enumerate()
-                .with_min_len(1024)
-                .map(|(t, &tri)| {
-                    let r = Svd2::new(&problem.frames.jacobian(t, tri, x)).rotation();
-                    let w = problem.frames.area[t] * inv;
-                    problem.frames.grad[t].map(|g| {
-                        [
-                            w * (r[0][0] * g[0] + r[0][1] * g[1]),
-                            w * (r[1][0] * g[0] + r[1][1] * g[1]),
-                        ]
-                    })
-                })
-                .collect();
-            let mut rhs: Vec<[f64; 2]> = x.iter().map(|p| [delta * p[0], delta * p[1]]).collect();
-            for (tri, c) in problem.tris.iter().zip(&contributions) {
-                for k in 0..3 {
-                    let b = &mut rhs[tri[k] as usize];
-                    b[0] += c[k][0];
-                    b[1] += c[k][1];
-                }
-            }
-            let global = solve2(&solver, &rhs)?;
-            Ok(Some(
-                global
-                    .iter()
-                    .zip(x)
-                    .map(|(g, p)| [g[0] - p[0], g[1] - p[1]])
-                    .collect(),
-            ))
-        },
-    )
+        }
+        let global = solve2(&solver, &rhs)?;
+        Ok(Some(global.iter().zip(x).map(|(g, p)| [g[0] - p[0], g[1] - p[1]]).collect()))
+    })
 }

@@ -54,22 +54,10 @@ impl Energy {
         match self {
             Energy::SymmetricDirichlet => {
                 let (i1, i2) = (1.0 / (s1 * s1), 1.0 / (s2 * s2));
-                (
-                    s1 * s1 + i1 + s2 * s2 + i2,
-                    2.0 * s1 - 2.0 * i1 / s1,
-                    2.0 * s2 - 2.0 * i2 / s2,
-                )
+                (s1 * s1 + i1 + s2 * s2 + i2, 2.0 * s1 - 2.0 * i1 / s1, 2.0 * s2 - 2.0 * i2 / s2)
             }
-            Energy::Arap => (
-                (s1 - 1.0).powi(2) + (s2 - 1.0).powi(2),
-                2.0 * (s1 - 1.0),
-                2.0 * (s2 - 1.0),
-            ),
-            Energy::Mips => (
-                s1 / s2 + s2 / s1,
-                1.0 / s2 - s2 / (s1 * s1),
-                1.0 / s1 - s1 / (s2 * s2),
-            ),
+            Energy::Arap => ((s1 - 1.0).powi(2) + (s2 - 1.0).powi(2), 2.0 * (s1 - 1.0), 2.0 * (s2 - 1.0)),
+            Energy::Mips => (s1 / s2 + s2 / s1, 1.0 / s2 - s2 / (s1 * s1), 1.0 / s1 - s1 / (s2 * s2)),
             Energy::GreenLagrange => {
                 let (a, b) = (s1 * s1 - 1.0, s2 * s2 - 1.0);
                 (a * a + b * b, 4.0 * s1 * a, 4.0 * s2 * b)
@@ -138,21 +126,11 @@ pub fn evaluate(
             (w * value, w * d, grad, cof)
         })
         .collect();
-    let sums: Vec<(f64, f64)> = per_triangle
-        .par_chunks(CHUNK)
-        .map(|c| c.iter().fold((0.0, 0.0), |(a, b), x| (a + x.0, b + x.1)))
-        .collect();
+    let sums: Vec<(f64, f64)> =
+        per_triangle.par_chunks(CHUNK).map(|c| c.iter().fold((0.0, 0.0), |(a, b), x| (a + x.0, b + x.1))).collect();
     let (local_sum, area_ratio) = sums.iter().fold((0.0, 0.0), |(a, b), x| (a + x.0, b + x.1));
-    let total = if e == Energy::Stretch {
-        local_sum * area_ratio
-    } else {
-        local_sum
-    };
-    let total = if total.is_finite() {
-        total
-    } else {
-        f64::INFINITY
-    };
+    let total = if e == Energy::Stretch { local_sum * area_ratio } else { local_sum };
+    let total = if total.is_finite() { total } else { f64::INFINITY };
     if !with_gradient || !total.is_finite() {
         return (total, Vec::new());
     }
@@ -172,23 +150,14 @@ pub fn evaluate(
             })
             .collect()
     } else {
-        per_triangle
-            .into_par_iter()
-            .with_min_len(1024)
-            .map(|x| x.2)
-            .collect()
+        per_triangle.into_par_iter().with_min_len(1024).map(|x| x.2).collect()
     };
     (total, grads)
 }
 
 /// Gradient of the energy in the UVs from the per-triangle `∂E/∂J` (a sequential scatter, so
 /// the sums are deterministic).
-pub fn vertex_gradient(
-    frames: &RestFrames,
-    tris: &[[u32; 3]],
-    dj: &[Mat2],
-    n: usize,
-) -> Vec<[f64; 2]> {
+pub fn vertex_gradient(frames: &RestFrames, tris: &[[u32; 3]], dj: &[Mat2], n: usize) -> Vec<[f64; 2]> {
     let mut g = vec![[0.0; 2]; n];
     for (t, tri) in tris.iter().enumerate() {
         let m = &dj[t];
@@ -222,16 +191,10 @@ mod tests {
         let n = 7;
         for i in 0..n {
             let a = i as f64 / n as f64 * std::f64::consts::TAU;
-            points.push([
-                a.cos() * (1.0 + 0.1 * i as f64),
-                a.sin(),
-                0.1 * (i % 3) as f64,
-            ]);
+            points.push([a.cos() * (1.0 + 0.1 * i as f64), a.sin(), 0.1 * (i % 3) as f64]);
             uv.push([1.3 * a.cos(), 0.8 * a.sin() + 0.05 * i as f64]);
         }
-        let tris = (0..n as u32)
-            .map(|i| [0, 1 + i, 1 + (i + 1) % n as u32])
-            .collect();
+        let tris = (0..n as u32).map(|i| [0, 1 + i, 1 + (i + 1) % n as u32]).collect();
         (points, tris, uv)
     }
 
@@ -248,8 +211,7 @@ mod tests {
                     let (mut p, mut m) = (uv.clone(), uv.clone());
                     p[v][c] += h;
                     m[v][c] -= h;
-                    let fd =
-                        (energy(e, &frames, &tris, &p) - energy(e, &frames, &tris, &m)) / (2.0 * h);
+                    let fd = (energy(e, &frames, &tris, &p) - energy(e, &frames, &tris, &m)) / (2.0 * h);
                     assert!(
                         (fd - g[v][c]).abs() <= 1e-6 * (1.0 + fd.abs()),
                         "{e:?} vertex {v} coord {c}: {fd} vs {}",
@@ -262,19 +224,11 @@ mod tests {
 
     #[test]
     fn isometry_reaches_each_energys_minimum() {
-        let points = [
-            [0.0, 0.0, 0.0],
-            [2.0, 0.0, 0.0],
-            [0.5, 1.5, 0.0],
-            [1.8, 1.9, 0.0],
-        ];
+        let points = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.5, 1.5, 0.0], [1.8, 1.9, 0.0]];
         let tris = [[0, 1, 2], [1, 3, 2]];
         // A rotation of the flat input.
         let (c, s) = (0.6f64, 0.8f64);
-        let uv: Vec<[f64; 2]> = points
-            .iter()
-            .map(|p| [c * p[0] - s * p[1], s * p[0] + c * p[1]])
-            .collect();
+        let uv: Vec<[f64; 2]> = points.iter().map(|p| [c * p[0] - s * p[1], s * p[0] + c * p[1]]).collect();
         let frames = RestFrames::new(&points, &tris);
         for (e, min) in ALL.iter().zip([4.0, 0.0, 2.0, 0.0, 16.0, 1.0]) {
             let value = energy(*e, &frames, &tris, &uv);

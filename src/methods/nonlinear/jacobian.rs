@@ -50,11 +50,7 @@ impl RestFrames {
             })
             .unzip();
         let total_area = area.iter().sum();
-        RestFrames {
-            area,
-            grad,
-            total_area,
-        }
+        RestFrames { area, grad, total_area }
     }
 
     /// Jacobian of triangle `t` under the map `uv` (indexed like the triangles).
@@ -107,12 +103,7 @@ impl Svd2 {
         let a1 = g.atan2(f);
         let a2 = h.atan2(e);
         let (theta, phi) = (0.5 * (a2 - a1), 0.5 * (a2 + a1));
-        Svd2 {
-            s1,
-            s2,
-            u: [phi.cos(), phi.sin()],
-            vt: [theta.cos(), theta.sin()],
-        }
+        Svd2 { s1, s2, u: [phi.cos(), phi.sin()], vt: [theta.cos(), theta.sin()] }
     }
 
     /// `U diag(d1, d2) Vᵀ`: the matrix derivative of an energy whose partial derivatives in
@@ -133,10 +124,7 @@ impl Svd2 {
     pub fn left_symmetric(&self, d1: f64, d2: f64) -> Mat2 {
         let [c, s] = self.u;
         let off = c * s * (d1 - d2);
-        [
-            [c * c * d1 + s * s * d2, off],
-            [off, s * s * d1 + c * c * d2],
-        ]
+        [[c * c * d1 + s * s * d2, off], [off, s * s * d1 + c * c * d2]]
     }
 
     /// The closest rotation `U Vᵀ` to J (for `det J > 0`).
@@ -179,11 +167,7 @@ mod tests {
             assert!((s.s1 * s.s2 - det(&j)).abs() < 1e-12);
             let rot = s.rotation();
             let rtr = mul(&[[rot[0][0], rot[1][0]], [rot[0][1], rot[1][1]]], &rot);
-            assert!(
-                (rtr[0][0] - 1.0).abs() < 1e-12
-                    && rtr[0][1].abs() < 1e-12
-                    && (det(&rot) - 1.0).abs() < 1e-12
-            );
+            assert!((rtr[0][0] - 1.0).abs() < 1e-12 && rtr[0][1].abs() < 1e-12 && (det(&rot) - 1.0).abs() < 1e-12);
         }
     }
 

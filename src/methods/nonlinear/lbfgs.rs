@@ -23,10 +23,7 @@ use std::collections::VecDeque;
 const MEMORY: usize = 8;
 
 fn dot(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| p[0] * q[0] + p[1] * q[1])
-        .sum()
+    a.iter().zip(b).map(|(p, q)| p[0] * q[0] + p[1] * q[1]).sum()
 }
 
 fn axpy(y: &mut [[f64; 2]], a: f64, x: &[[f64; 2]]) {
@@ -37,10 +34,7 @@ fn axpy(y: &mut [[f64; 2]], a: f64, x: &[[f64; 2]]) {
 }
 
 fn diff(a: &[[f64; 2]], b: &[[f64; 2]]) -> Vec<[f64; 2]> {
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| [p[0] - q[0], p[1] - q[1]])
-        .collect()
+    a.iter().zip(b).map(|(p, q)| [p[0] - q[0], p[1] - q[1]]).collect()
 }
 
 /// A stored pair `(s, y, 1/yᵀs)`.
@@ -75,11 +69,7 @@ pub(crate) fn minimize(
                 if pairs.len() == MEMORY {
                     pairs.pop_front();
                 }
-                pairs.push_back(Pair {
-                    s,
-                    y,
-                    rho: 1.0 / sy,
-                });
+                pairs.push_back(Pair { s, y, rho: 1.0 / sy });
             }
         }
         previous = Some((x.to_vec(), grad.to_vec()));
@@ -104,10 +94,7 @@ pub(crate) fn minimize(
         let mut d: Vec<[f64; 2]> = r.iter().map(|v| [-v[0], -v[1]]).collect();
         if !(dot(&d, grad) < 0.0) {
             pairs.clear();
-            d = solve2(&solver, grad)?
-                .iter()
-                .map(|v| [-v[0], -v[1]])
-                .collect();
+            d = solve2(&solver, grad)?.iter().map(|v| [-v[0], -v[1]]).collect();
         }
         Ok(Some(d))
     })

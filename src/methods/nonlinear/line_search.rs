@@ -71,19 +71,12 @@ pub fn max_flip_free_step(tris: &[[u32; 3]], uv: &[[f64; 2]], d: &[[f64; 2]]) ->
 
 /// `x + t·d`.
 pub fn step(x: &[[f64; 2]], d: &[[f64; 2]], t: f64) -> Vec<[f64; 2]> {
-    x.par_iter()
-        .zip(d.par_iter())
-        .with_min_len(4096)
-        .map(|(a, b)| [a[0] + t * b[0], a[1] + t * b[1]])
-        .collect()
+    x.par_iter().zip(d.par_iter()).with_min_len(4096).map(|(a, b)| [a[0] + t * b[0], a[1] + t * b[1]]).collect()
 }
 
 /// Directional derivative `∇E · d`.
 pub fn slope(grad: &[[f64; 2]], d: &[[f64; 2]]) -> f64 {
-    grad.iter()
-        .zip(d)
-        .map(|(g, d)| g[0] * d[0] + g[1] * d[1])
-        .sum()
+    grad.iter().zip(d).map(|(g, d)| g[0] * d[0] + g[1] * d[1]).sum()
 }
 
 /// Outcome of an accepted step.
@@ -116,11 +109,7 @@ pub fn flip_free_armijo(
     for _ in 0..MAX_HALVINGS {
         let uv = step(x, d, t);
         let e = energy(&uv);
-        let enough = if slope < 0.0 {
-            e <= e0 + ARMIJO_C1 * t * slope
-        } else {
-            e < e0
-        };
+        let enough = if slope < 0.0 { e <= e0 + ARMIJO_C1 * t * slope } else { e < e0 };
         if e.is_finite() && enough && e < e0 {
             return Some(Accepted { t, uv, energy: e });
         }
@@ -155,8 +144,7 @@ mod tests {
         let d = [[0.0, 0.0], [0.0, 0.0], [0.0, -4.0]];
         // An "energy" that rewards moving down (so Armijo alone would cross zero area).
         let energy = |x: &[[f64; 2]]| {
-            let a = (x[1][0] - x[0][0]) * (x[2][1] - x[0][1])
-                - (x[1][1] - x[0][1]) * (x[2][0] - x[0][0]);
+            let a = (x[1][0] - x[0][0]) * (x[2][1] - x[0][1]) - (x[1][1] - x[0][1]) * (x[2][0] - x[0][0]);
             if a > 0.0 {
                 x[2][1]
             } else {

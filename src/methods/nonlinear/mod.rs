@@ -88,12 +88,7 @@ pub struct NonlinearOptions {
 impl NonlinearOptions {
     /// Defaults for `method`: 100 iterations, tolerance 1e-7, θ = 3.
     pub fn new(method: NonlinearMethod) -> Self {
-        NonlinearOptions {
-            method,
-            iterations: 100,
-            tolerance: 1e-7,
-            theta: 3.0,
-        }
+        NonlinearOptions { method, iterations: 100, tolerance: 1e-7, theta: 3.0 }
     }
 }
 
@@ -124,18 +119,10 @@ pub fn nonlinear_map_with_progress(
     progress: &mut Progress,
 ) -> Result<NonlinearResult> {
     if !(options.tolerance >= 0.0) {
-        return Err(Error::InvalidArgument(format!(
-            "tolerance must be ≥ 0 (got {})",
-            options.tolerance
-        )));
+        return Err(Error::InvalidArgument(format!("tolerance must be ≥ 0 (got {})", options.tolerance)));
     }
-    if options.method == NonlinearMethod::Degener
-        && !(options.theta > 0.0 && options.theta.is_finite())
-    {
-        return Err(Error::InvalidArgument(format!(
-            "Degener's θ must be finite and > 0 (got {})",
-            options.theta
-        )));
+    if options.method == NonlinearMethod::Degener && !(options.theta > 0.0 && options.theta.is_finite()) {
+        return Err(Error::InvalidArgument(format!("Degener's θ must be finite and > 0 (got {})", options.theta)));
     }
     mesh.require_disk_with_holes()?;
     progress.report(0.0)?;
@@ -182,20 +169,10 @@ impl Problem {
                 vertex.push(v);
             }
         }
-        let tris: Vec<[u32; 3]> = mesh
-            .triangles()
-            .iter()
-            .map(|t| t.map(|v| index[v as usize]))
-            .collect();
+        let tris: Vec<[u32; 3]> = mesh.triangles().iter().map(|t| t.map(|v| index[v as usize])).collect();
         let coords: Vec<[f64; 3]> = vertex.iter().map(|&v| mesh.points()[v as usize]).collect();
         let frames = RestFrames::new(&coords, &tris);
-        Problem {
-            index,
-            vertex,
-            tris,
-            frames,
-            coords,
-        }
+        Problem { index, vertex, tris, frames, coords }
     }
 
     /// Number of unknown vertices.
@@ -205,16 +182,7 @@ impl Problem {
 
     /// One UV per mesh vertex from compact UVs.
     pub fn expand(&self, x: &[[f64; 2]]) -> Vec<[f64; 2]> {
-        self.index
-            .iter()
-            .map(|&i| {
-                if i == NONE {
-                    [f64::NAN; 2]
-                } else {
-                    x[i as usize]
-                }
-            })
-            .collect()
+        self.index.iter().map(|&i| if i == NONE { [f64::NAN; 2] } else { x[i as usize] }).collect()
     }
 
     /// Compact UVs of a per-vertex map, oriented like the triangles (mirrored when every
@@ -244,10 +212,7 @@ impl Problem {
     /// The bijective starting map (see the module documentation).
     fn initial_map(&self, mesh: &TriMesh, method: NonlinearMethod) -> Result<Vec<[f64; 2]>> {
         if method == NonlinearMethod::Arap {
-            if let Some(x) = natural_conformal_map(mesh, None)
-                .ok()
-                .and_then(|uv| self.oriented_and_scaled(&uv))
-            {
+            if let Some(x) = natural_conformal_map(mesh, None).ok().and_then(|uv| self.oriented_and_scaled(&uv)) {
                 return Ok(x);
             }
         }
@@ -322,27 +287,13 @@ pub(crate) fn descend(
     let (frames, tris, n) = (&problem.frames, &problem.tris, problem.n());
     let gradient = |x: &[[f64; 2]]| {
         let (e, dj) = evaluate(energy, frames, tris, x, true);
-        (
-            e,
-            if e.is_finite() {
-                vertex_gradient(frames, tris, &dj, n)
-            } else {
-                Vec::new()
-            },
-        )
+        (e, if e.is_finite() { vertex_gradient(frames, tris, &dj, n) } else { Vec::new() })
     };
     let (mut e, mut grad) = gradient(&x0);
     if !e.is_finite() {
-        return Err(Error::Numerical(
-            "the starting map has infinite energy (a degenerate triangle)".into(),
-        ));
+        return Err(Error::Numerical("the starting map has infinite energy (a degenerate triangle)".into()));
     }
-    let mut run = Run {
-        x: x0,
-        energy: vec![e],
-        iterations: 0,
-        converged: false,
-    };
+    let mut run = Run { x: x0, energy: vec![e], iterations: 0, converged: false };
     for it in 0..options.iterations {
         progress.report(0.02 + 0.97 * it as f64 / options.iterations as f64)?;
         let mut accepted = None;
@@ -351,9 +302,8 @@ pub(crate) fn descend(
                 break;
             };
             let slope = line_search::slope(&grad, &d);
-            accepted = line_search::flip_free_armijo(tris, &run.x, &d, e, slope, |x| {
-                energy::energy(energy, frames, tris, x)
-            });
+            accepted =
+                line_search::flip_free_armijo(tris, &run.x, &d, e, slope, |x| energy::energy(energy, frames, tris, x));
             if accepted.is_some() {
                 break;
             }

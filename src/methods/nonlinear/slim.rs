@@ -73,19 +73,15 @@ impl SlimSystem {
             }
         }
         let lower = lower_from_entries(&vec![0.0; 2 * n], entries)?;
-        let symbolic = lower
-            .symbolic()
-            .to_owned()
-            .map_err(|_| Error::Internal("out of memory for the SLIM pattern".into()))?;
+        let symbolic =
+            lower.symbolic().to_owned().map_err(|_| Error::Internal("out of memory for the SLIM pattern".into()))?;
         let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
         let slot = |a: usize, b: usize| -> Result<u32> {
             let (r, c) = (a.max(b), a.min(b));
             let range = col_ptr[c]..col_ptr[c + 1];
             match row_idx[range.clone()].binary_search(&r) {
                 Ok(k) => Ok((range.start + k) as u32),
-                Err(_) => Err(Error::Internal(format!(
-                    "SLIM pattern misses entry ({r}, {c})"
-                ))),
+                Err(_) => Err(Error::Internal(format!("SLIM pattern misses entry ({r}, {c})"))),
             }
         };
         let slots = problem
@@ -102,19 +98,11 @@ impl SlimSystem {
         let diagonal = (0..2 * n).map(|c| col_ptr[c]).collect();
         // Nested dissection of the vertex graph, then u and v of each vertex consecutively.
         let vertex_pattern = vertex_graph_lower(problem)?;
-        let adjacency =
-            ordering::Adjacency::from_lower(n, vertex_pattern.col_ptr(), vertex_pattern.row_idx());
-        let order: Vec<usize> = ordering::nested_dissection(&adjacency, &problem.coords)
-            .iter()
-            .flat_map(|&v| [2 * v, 2 * v + 1])
-            .collect();
+        let adjacency = ordering::Adjacency::from_lower(n, vertex_pattern.col_ptr(), vertex_pattern.row_idx());
+        let order: Vec<usize> =
+            ordering::nested_dissection(&adjacency, &problem.coords).iter().flat_map(|&v| [2 * v, 2 * v + 1]).collect();
         let pattern = CholeskyPattern::with_order(symbolic.as_ref(), Some(order))?;
-        Ok(SlimSystem {
-            symbolic,
-            pattern,
-            slots,
-            diagonal,
-        })
+        Ok(SlimSystem { symbolic, pattern, slots, diagonal })
     }
 }
 
@@ -128,9 +116,7 @@ fn vertex_graph_lower(problem: &Problem) -> Result<SymbolicSparseColMat<usize>> 
         }
     }
     let m = lower_from_entries(&vec![0.0; problem.n()], entries)?;
-    m.symbolic()
-        .to_owned()
-        .map_err(|_| Error::Internal("out of memory for the vertex graph".into()))
+    m.symbolic().to_owned().map_err(|_| Error::Internal("out of memory for the vertex graph".into()))
 }
 
 /// SLIM weights `w_i² = (σ + 1)(σ² + 1)/σ³` of the symmetric Dirichlet energy.
@@ -150,74 +136,58 @@ pub(crate) fn minimize(
     let pairs = local_pairs();
     let inv = 1.0 / problem.frames.total_area;
     let n = problem.n();
-    descend(
-        problem,
-        Energy::SymmetricDirichlet,
-        x0,
-        options,
-        progress,
-        |x, _grad, reset| {
-            if reset {
-                return Ok(None);
-            }
-            // Per triangle: the 21 matrix values and the 6 right-hand side values.
-            let local: Vec<([f64; PAIRS], [f64; LOCAL])> = problem
-                .tris
-                .par_iter()
-                .enumerate()
-                .with_min_len(1024)
-                .map(|(t, &tri)| {
-                    let svd = Svd2::new(&problem.frames.jacobian(t, tri, x));
-                    let w = problem.frames.area[t] * inv;
-                    let c = svd.left_symmetric(weight2(svd.s1), weight2(svd.s2));
-                    let r = svd.rotation();
-                    let cr = [
-                        [
-                            c[0][0] * r[0][0] + c[0][1] * r[1][0],
-                            c[0][0] * r[0][1] + c[0][1] * r[1][1],
-                        ],
-                        [
-                            c[1][0] * r[0][0] + c[1][1] * r[1][0],
-                            c[1][0] * r[0][1] + c[1][1] * r[1][1],
-                        ],
-                    ];
-                    let g = &problem.frames.grad[t];
-                    let mut values = [0.0; PAIRS];
-                    for (k, &(i, j)) in pairs.iter().enumerate() {
-                        let (ki, ri, kj, rj) = (i / 2, i % 2, j / 2, j % 2);
-                        values[k] = w * c[ri][rj] * (g[ki][0] * g[kj][0] + g[ki][1] * g[kj][1]);
-                    }
-                    let mut rhs = [0.0; LOCAL];
-                    for i in 0..LOCAL {
-                        let (k, r) = (i / 2, i % 2);
-                        rhs[i] = w * (cr[r][0] * g[k][0] + cr[r][1] * g[k][1]);
-                    }
-                    (values, rhs)
-                })
-                .collect();
-            let mut values = vec![0.0; system.symbolic.row_idx().len()];
-            let mut rhs = Mat::<f64>::zeros(2 * n, 1);
-            for ((tri, slots), (v, b)) in problem.tris.iter().zip(&system.slots).zip(&local) {
-                for k in 0..PAIRS {
-                    values[slots[k] as usize] += v[k];
+    descend(problem, Energy::SymmetricDirichlet, x0, options, progress, |x, _grad, reset| {
+        if reset {
+            return Ok(None);
+        }
+        // Per triangle: the 21 matrix values and the 6 right-hand side values.
+        let local: Vec<([f64; PAIRS], [f64; LOCAL])> = problem
+            .tris
+            .par_iter()
+            .enumerate()
+            .with_min_len(1024)
+            .map(|(t, &tri)| {
+                let svd = Svd2::new(&problem.frames.jacobian(t, tri, x));
+                let w = problem.frames.area[t] * inv;
+                let c = svd.left_symmetric(weight2(svd.s1), weight2(svd.s2));
+                let r = svd.rotation();
+                let cr = [
+                    [c[0][0] * r[0][0] + c[0][1] * r[1][0], c[0][0] * r[0][1] + c[0][1] * r[1][1]],
+                    [c[1][0] * r[0][0] + c[1][1] * r[1][0], c[1][0] * r[0][1] + c[1][1] * r[1][1]],
+                ];
+                let g = &problem.frames.grad[t];
+                let mut values = [0.0; PAIRS];
+                for (k, &(i, j)) in pairs.iter().enumerate() {
+                    let (ki, ri, kj, rj) = (i / 2, i % 2, j / 2, j % 2);
+                    values[k] = w * c[ri][rj] * (g[ki][0] * g[kj][0] + g[ki][1] * g[kj][1]);
                 }
+                let mut rhs = [0.0; LOCAL];
                 for i in 0..LOCAL {
-                    rhs[(2 * tri[i / 2] as usize + i % 2, 0)] += b[i];
+                    let (k, r) = (i / 2, i % 2);
+                    rhs[i] = w * (cr[r][0] * g[k][0] + cr[r][1] * g[k][1]);
                 }
+                (values, rhs)
+            })
+            .collect();
+        let mut values = vec![0.0; system.symbolic.row_idx().len()];
+        let mut rhs = Mat::<f64>::zeros(2 * n, 1);
+        for ((tri, slots), (v, b)) in problem.tris.iter().zip(&system.slots).zip(&local) {
+            for k in 0..PAIRS {
+                values[slots[k] as usize] += v[k];
             }
-            let delta = 1e-8 * system.diagonal.iter().map(|&s| values[s]).sum::<f64>()
-                / (2 * n).max(1) as f64;
-            for (c, &s) in system.diagonal.iter().enumerate() {
-                values[s] += delta;
-                rhs[(c, 0)] += delta * x[c / 2][c % 2];
+            for i in 0..LOCAL {
+                rhs[(2 * tri[i / 2] as usize + i % 2, 0)] += b[i];
             }
-            let matrix = SparseColMat::new(system.symbolic.clone(), values);
-            system.pattern.factor(&matrix)?.solve_in_place(&mut rhs)?;
-            let d: Vec<[f64; 2]> = (0..n)
-                .map(|v| [rhs[(2 * v, 0)] - x[v][0], rhs[(2 * v + 1, 0)] - x[v][1]])
-                .collect();
-            crate::linalg::require_finite(d.iter().flatten().copied(), "SLIM")?;
-            Ok(Some(d))
-        },
-    )
+        }
+        let delta = 1e-8 * system.diagonal.iter().map(|&s| values[s]).sum::<f64>() / (2 * n).max(1) as f64;
+        for (c, &s) in system.diagonal.iter().enumerate() {
+            values[s] += delta;
+            rhs[(c, 0)] += delta * x[c / 2][c % 2];
+        }
+        let matrix = SparseColMat::new(system.symbolic.clone(), values);
+        system.pattern.factor(&matrix)?.solve_in_place(&mut rhs)?;
+        let d: Vec<[f64; 2]> = (0..n).map(|v| [rhs[(2 * v, 0)] - x[v][0], rhs[(2 * v + 1, 0)] - x[v][1]]).collect();
+        crate::linalg::require_finite(d.iter().flatten().copied(), "SLIM")?;
+        Ok(Some(d))
+    })
 }
