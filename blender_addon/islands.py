@@ -66,6 +66,11 @@ class Island:
     loops: np.ndarray
     #: Island-local vertex index of each of ``loops``.
     loop_vertex: np.ndarray
+    #: (m, 3) mesh loop of every triangle corner (row t is ``triangles[t]``).
+    triangle_loops: np.ndarray
+    #: (m, 3) True where half-edge k of triangle t (corner k to k + 1) is not a polygon edge but
+    #: a diagonal of the tessellation of an n-gon.
+    triangle_diagonals: np.ndarray
 
 
 @dataclasses.dataclass
@@ -162,9 +167,38 @@ def split_islands(
                 polys=poly_order[poly_bounds[i] : poly_bounds[i + 1]],
                 loops=loops,
                 loop_vertex=loop_vertex.reshape(-1),
+                triangle_loops=tris,
+                triangle_diagonals=_diagonals(tris, loop_next),
             )
         )
     return Split(islands=islands, selected_polys=len(selected_polys))
+
+
+def _diagonals(tri_loops: np.ndarray, loop_next: np.ndarray) -> np.ndarray:
+    """(m, 3) flags: half-edge k of a triangle (loop a to loop b) is a polygon edge exactly when
+    b follows a or a follows b in their polygon; otherwise it is a tessellation diagonal."""
+    a = tri_loops
+    b = np.roll(tri_loops, -1, axis=1)
+    return (loop_next[a] != b) & (loop_next[b] != a)
+
+
+def cut_open(island: Island, cut_triangles: np.ndarray, cut_positions: np.ndarray) -> Optional[Island]:
+    """The island re-indexed over a cut mesh that has the island's triangles in the same order
+    (``uvflat.cut_to_disk``). Every loop takes the cut vertex of a triangle corner it belongs
+    to; None when a cut runs through the inside of a polygon (two corners of one loop then get
+    different cut vertices, which one UV per loop cannot represent)."""
+    cut_triangles = np.asarray(cut_triangles, dtype=np.int64)
+    position = np.searchsorted(island.loops, island.triangle_loops)
+    loop_vertex = np.full(len(island.loops), -1, dtype=np.int64)
+    loop_vertex[position.ravel()] = cut_triangles.ravel()
+    if (loop_vertex[position] != cut_triangles).any() or (loop_vertex < 0).any():
+        return None
+    return dataclasses.replace(
+        island,
+        positions=np.ascontiguousarray(cut_positions, dtype=np.float64),
+        triangles=np.ascontiguousarray(cut_triangles, dtype=np.uint32),
+        loop_vertex=loop_vertex,
+    )
 
 
 def triangle_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:

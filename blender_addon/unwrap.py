@@ -9,15 +9,16 @@ Steps (all objects of a multi-object Edit Mode together):
    tessellation (``mesh.loop_triangles``), so n-gons, concave ones too, are solved as triangles
    and written back per loop;
 3. solve every island with the chosen uvflat method; closed islands (no boundary) and islands
-   that are not topological disks with holes (genus > 0) are skipped with a warning and keep
-   their UVs, as do islands the library rejects (e.g. zero-area faces; the warning quotes the
-   library's message);
+   that are not topological disks with holes (genus > 0) are first cut into a disk by the
+   library's cut graph along polygon edges (or, with "Cut Closed Islands" off, skipped with a
+   warning, keeping their UVs); islands the library rejects (e.g. zero-area faces) are skipped
+   and the warning quotes the library's message;
 4. pins: pinned loops never change. With natural conformal and two or more pinned vertices on an
    island, every pin is a point constraint of the solve (``uvf_pinned_natural_conformal_map``);
    if the library finds them conflicting, the two pins farthest apart in UV constrain it and
    the others are kept where they are but do not constrain the solve (reported).
-   Fixed-boundary methods (and natural conformal with one pin) solve without constraints and
-   then move the island by the similarity (rotation, uniform scale, translation) that best
+   Every other method (and natural conformal with one pin) solves without constraints and
+   then moves the island by the similarity (rotation, uniform scale, translation) that best
    matches its pins. Islands with pins are not moved by the layout;
 5. islands without pins are scaled so that their UV area equals their 3D area (relative sizes
    as in 3D), corrected for the image aspect ratio if asked, placed side by side without
@@ -34,7 +35,7 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import bpy
 import numpy as np
-from bpy.props import BoolProperty, EnumProperty, FloatProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 
 from . import islands as isl
 from ._binding import binding
@@ -44,13 +45,18 @@ LAST_RUN: Dict[str, Any] = {}
 
 METHODS = [
     ("NATURAL_CONFORMAL", "Natural Conformal", "Free-boundary natural conformal map (= LSCM, Desbrun et al. 2002); honours every pin"),
-    ("MEAN_VALUE", "Mean Value", "Floater's mean value coordinates, boundary fixed on a circle or square; never flips"),
+    ("ABF_PLUS_PLUS", "ABF++", "Angle Based Flattening (Sheffer et al. 2005), then least-squares reconstruction; free boundary"),
     ("INTRINSIC", "Intrinsic (λ, μ)", "λ·discrete conformal + μ·discrete authalic weights, fixed boundary (Desbrun et al. 2002)"),
+    ("MEAN_VALUE", "Mean Value", "Floater's mean value coordinates, boundary fixed on a circle or square; never flips"),
+    ("SLIM", "SLIM (symmetric Dirichlet)", "Isometric free-boundary map minimised by SLIM (Rabinovich et al. 2017); never flips"),
+    ("STRETCH", "Minimum Stretch", "Sander et al. 2001 L2 stretch, free boundary; never flips"),
+    ("ARAP", "As Rigid As Possible", "Liu et al. 2008 local/global ARAP, free boundary; never flips"),
     ("TUTTE", "Tutte", "Uniform weights, fixed convex boundary; never flips"),
     ("FLOATER", "Floater", "Floater's shape-preserving weights, fixed convex boundary; never flips"),
     ("AUTHALIC", "Authalic", "Discrete authalic (Wachspress) weights, fixed boundary"),
     ("CONFORMAL", "Conformal (fixed)", "Discrete conformal (harmonic, cotangent) weights, fixed boundary"),
 ]
+_NONLINEAR = {"SLIM": "slim", "STRETCH": "stretch", "ARAP": "arap"}
 _FIXED_WEIGHTS = {
     "MEAN_VALUE": "mean_value",
     "INTRINSIC": "intrinsic",
@@ -94,6 +100,13 @@ class _Job:
         self.pin_uv = pin_uv  # their current UVs
         self.uv: Optional[np.ndarray] = None
 
+    @staticmethod
+    def of(obj_index: int, island: isl.Island, uv: np.ndarray, pinned: np.ndarray) -> "_Job":
+        """The job of an island, with its pinned vertices and their current UVs."""
+        pin_loops = island.loops[pinned[island.loops]]
+        vertices, first = np.unique(island.loop_vertex[pinned[island.loops]], return_index=True)
+        return _Job(obj_index, island, vertices, uv[pin_loops[first]] if len(pin_loops) else np.zeros((0, 2)))
+
 
 class UVFLAT_OT_unwrap(bpy.types.Operator):
     """Unwrap the selected faces with uvflat (islands split at seams and the selection border;
@@ -111,6 +124,15 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
     )
     lambda_: FloatProperty(name="λ (conformal)", default=1.0, min=0.0, soft_max=1.0)  # type: ignore[valid-type]
     mu: FloatProperty(name="μ (authalic)", default=0.0, min=0.0, soft_max=1.0)  # type: ignore[valid-type]
+    iterations: IntProperty(  # type: ignore[valid-type]
+        name="Iterations", default=100, min=1, soft_max=1000, description="Iteration limit of SLIM, stretch and ARAP"
+    )
+    cut_closed: BoolProperty(  # type: ignore[valid-type]
+        name="Cut Closed Islands",
+        default=True,
+        description="Cut closed and higher-genus islands into a disk with uvflat's cut graph (seams along polygon "
+        "edges, steered to short edges); off: skip them with a warning",
+    )
     correct_aspect: BoolProperty(  # type: ignore[valid-type]
         name="Correct Aspect", default=True, description="Take the active image's aspect ratio into account"
     )
@@ -127,11 +149,14 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
     def draw(self, context: bpy.types.Context) -> None:
         layout = self.layout
         layout.prop(self, "method")
-        if self.method != "NATURAL_CONFORMAL":
+        if self.method in _FIXED_WEIGHTS:
             layout.prop(self, "boundary")
         if self.method == "INTRINSIC":
             layout.prop(self, "lambda_")
             layout.prop(self, "mu")
+        if self.method in _NONLINEAR:
+            layout.prop(self, "iterations")
+        layout.prop(self, "cut_closed")
         layout.prop(self, "correct_aspect")
         layout.prop(self, "pack")
         layout.prop(self, "margin")
@@ -148,10 +173,13 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
         objects = [o for o in getattr(context, "objects_in_mode_unique_data", [context.edit_object]) if o.type == "MESH"]
         start = time.perf_counter()
         LAST_RUN.clear()
+        wm = context.window_manager
         bpy.ops.object.mode_set(mode="OBJECT")
+        wm.progress_begin(0, 100)
         try:
-            summary = self._unwrap_objects(uvflat, objects)
+            summary = self._unwrap_objects(uvflat, objects, lambda f: wm.progress_update(100 * f))
         finally:
+            wm.progress_end()
             bpy.ops.object.mode_set(mode="EDIT")
         if self.pack and summary["unwrapped_polys"]:
             self._pack(objects, summary)
@@ -170,7 +198,9 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
             self.report({"INFO"}, message)
         return {"FINISHED"}
 
-    def _unwrap_objects(self, uvflat: Any, objects: List[bpy.types.Object]) -> Dict[str, Any]:
+    def _unwrap_objects(self, uvflat: Any, objects: List[bpy.types.Object], progress: Any) -> Dict[str, Any]:
+        """Reads, splits, solves and writes back every object; ``progress(fraction)`` is called
+        after each island (Blender shows it as the cursor's progress counter)."""
         jobs: List[_Job] = []
         meshes = []
         skipped = {"closed": 0, "not_disk": 0, "invalid": 0}
@@ -202,16 +232,24 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
             uv = _get(layer.uv, "vector", np.float32, n_loops, 2).astype(np.float64)
             pinned = _get(layer.pin, "value", bool, n_loops) if len(layer.pin) == n_loops else np.zeros(n_loops, bool)
             meshes.append((obj, me, layer, uv, pinned, image_aspect(obj) if self.correct_aspect else 1.0))
-            for island in split.islands:
-                pin_loops = island.loops[pinned[island.loops]]
-                vertices, first = np.unique(island.loop_vertex[pinned[island.loops]], return_index=True)
-                jobs.append(_Job(k, island, vertices, uv[pin_loops[first]] if len(pin_loops) else np.zeros((0, 2))))
+            jobs.extend(_Job.of(k, island, uv, pinned) for island in split.islands)
 
         # Solve.
         solved: List[_Job] = []
         solve_start = time.perf_counter()
-        for job in jobs:
+        cut_islands = 0
+        for index, job in enumerate(jobs):
+            progress(index / len(jobs))
             problem = self._problem(uvflat, job.island)
+            if problem is not None and problem[0] in ("closed", "not_disk") and self.cut_closed:
+                cut = self._cut(uvflat, job.island)
+                if isinstance(cut, str):
+                    problem = ("invalid", cut)
+                else:
+                    _, _, _, uv, pinned, _ = meshes[job.obj_index]
+                    job = jobs[index] = _Job.of(job.obj_index, cut, uv, pinned)
+                    problem = None
+                    cut_islands += 1
             if problem is not None:
                 skipped[problem[0]] += 1
                 if len(messages) < 3:
@@ -278,6 +316,8 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
             me.update()
 
         warnings = []
+        if cut_islands:
+            warnings.append(f"{cut_islands} closed or higher-genus island(s) cut open along new seams (not marked)")
         if skipped["closed"]:
             warnings.append(f"{skipped['closed']} closed island(s) (no boundary) skipped: mark a seam to open them")
         if skipped["not_disk"]:
@@ -296,6 +336,7 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
             "faces": int(sum(len(j.island.polys) for j in solved)),
             "selected_faces": int(sum(len(j.island.polys) for j in jobs)),
             "skipped": skipped,
+            "cut_islands": cut_islands,
             "unenforced_pins": unenforced_pins,
             "angle_mean": weighted / counted if counted else float("nan"),
             "solve_seconds": solve_seconds,
@@ -321,6 +362,23 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
             return "not_disk", f"island of {len(island.polys)} faces has genus {info.genus}"
         return None
 
+    @staticmethod
+    def _cut(uvflat: Any, island: isl.Island) -> Any:
+        """The island cut into a disk (``uvflat.cut_to_disk``), or a message saying why not.
+        The cost is the edge length, and a million times that on the diagonals of n-gon
+        tessellations, so the seams follow polygon edges (a loop has only one UV)."""
+        p, t = island.positions, island.triangles.astype(np.int64)
+        length = np.linalg.norm(p[np.roll(t, -1, axis=1)] - p[t], axis=2)
+        cost = length * np.where(island.triangle_diagonals, 1e6, 1.0)
+        try:
+            cut = uvflat.cut_to_disk(p, island.triangles, cost=cost)
+        except uvflat.Error as e:
+            return f"island of {len(island.polys)} faces cannot be cut: {e.message or e}"
+        opened = isl.cut_open(island, cut.triangles, cut.positions)
+        if opened is None:
+            return f"island of {len(island.polys)} faces: the cut runs through an n-gon; mark seams by hand"
+        return opened
+
     def _solve(self, uvflat: Any, job: _Job) -> Tuple[np.ndarray, int]:
         """UVs of the island's vertices, and how many pins were not enforced."""
         island = job.island
@@ -339,6 +397,11 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
                         uv = uvflat.natural_conformal_map(island.positions, island.triangles, pins=pair)
                         return uv, len(pins) - 2
             uv = uvflat.natural_conformal_map(island.positions, island.triangles)
+        elif self.method == "ABF_PLUS_PLUS":
+            uv, _ = uvflat.abf(island.positions, island.triangles, variant="abf++")
+        elif self.method in _NONLINEAR:
+            method = _NONLINEAR[self.method]
+            uv, _ = uvflat.nonlinear_map(island.positions, island.triangles, method, iterations=self.iterations)
         else:
             kwargs: Dict[str, Any] = {"weights": _FIXED_WEIGHTS[self.method], "boundary": self.boundary.lower()}
             if self.method == "INTRINSIC":

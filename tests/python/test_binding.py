@@ -859,3 +859,24 @@ def test_spherical_map_of_a_closed_genus_zero_mesh_is_on_the_unit_sphere_without
     assert np.allclose(np.linalg.norm(sphere, axis=1), 1.0, atol=1e-12)
     with pytest.raises(uvflat.UnsupportedTopology):
         uvflat.spherical_map(*load_mesh("closed_g1_bob.obj"))
+
+
+def test_cut_to_disk_with_given_costs_avoids_expensive_edges():
+    p, t = load_mesh("closed_g1_bob.obj")
+    t64 = t.astype(np.int64)
+    # Half-edges whose two ends both lie above the median height cost a thousand times more:
+    # the cut must then run (where topology allows) through the cheap lower part.
+    z = p[:, 2]
+    high = (z[t64] > np.median(z)) & (z[np.roll(t64, -1, axis=1)] > np.median(z))
+    length = np.linalg.norm(p[np.roll(t64, -1, axis=1)] - p[t64], axis=2)
+    cost = length * np.where(high, 1e3, 1.0)
+    cut = uvflat.cut_to_disk(p, t, cost=cost)
+    info = uvflat.mesh_info(cut.positions, cut.triangles)
+    assert (info.boundary_loops, info.euler_characteristic) == (1, 1)
+    plain = uvflat.cut_to_disk(p, t, cost="length")
+    high_edges = lambda c: int((z[c.edges] > np.median(z)).all(axis=1).sum())  # noqa: E731
+    assert high_edges(cut) < high_edges(plain)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.cut_to_disk(p, t, cost=cost[:-1])
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.cut_to_disk(p, t, cost=np.full(t.shape, -1.0))

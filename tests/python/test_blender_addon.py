@@ -470,6 +470,10 @@ def test_one_pin_keeps_its_island_in_place():
         {"method": "AUTHALIC"},
         {"method": "CONFORMAL"},
         {"method": "NATURAL_CONFORMAL", "pack": True, "margin": 0.02},
+        {"method": "ABF_PLUS_PLUS"},
+        {"method": "SLIM", "iterations": 20},
+        {"method": "STRETCH", "iterations": 20},
+        {"method": "ARAP", "iterations": 20},
     ],
     ids=lambda p: "-".join(str(v) for v in p.values()),
 )
@@ -515,23 +519,52 @@ def test_correct_aspect_uses_the_active_image():
     assert wide == pytest.approx(plain / 2, rel=1e-4)
 
 
-def test_closed_and_genus_islands_are_skipped_untouched():
+def closed_and_genus_objects():
+    """A whole UV sphere (closed, genus 0) and a torus with quads, minus one face (genus 1 with a
+    boundary), with random UVs, both in Edit Mode with those faces selected."""
     bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, location=(-3, 0, 0))
     sphere = bpy.context.object
     bpy.ops.mesh.primitive_torus_add(major_segments=24, minor_segments=12, location=(3, 0, 0))
     torus = bpy.context.object
     bpy.ops.object.mode_set(mode="OBJECT")
-    sphere_uv = set_uvs(sphere, np.random.default_rng(5))
-    torus_uv = set_uvs(torus, np.random.default_rng(6))
-    # The whole sphere (closed), and the torus minus one face (genus 1 with a boundary).
+    before = {sphere.name: set_uvs(sphere, np.random.default_rng(5)), torus.name: set_uvs(torus, np.random.default_rng(6))}
     edit([sphere, torus], lambda o: np.arange(len(o.data.polygons)) != (0 if o is torus else -1))
-    summary = run()
+    return sphere, torus, before
+
+
+def test_closed_and_genus_islands_are_skipped_untouched_when_not_cut():
+    sphere, torus, before = closed_and_genus_objects()
+    summary = run(cut_closed=False)
     assert summary["skipped"]["closed"] == 1 and summary["skipped"]["not_disk"] == 1
-    assert summary["islands"] == 0
+    assert summary["islands"] == 0 and summary["cut_islands"] == 0
     assert any("closed" in w for w in summary["warnings"]) and any("genus" in w for w in summary["warnings"])
     bpy.ops.object.mode_set(mode="OBJECT")
-    np.testing.assert_array_equal(read(sphere)["uv"], sphere_uv)
-    np.testing.assert_array_equal(read(torus)["uv"], torus_uv)
+    np.testing.assert_array_equal(read(sphere)["uv"], before[sphere.name])
+    np.testing.assert_array_equal(read(torus)["uv"], before[torus.name])
+
+
+@pytest.mark.parametrize("method", ["NATURAL_CONFORMAL", "MEAN_VALUE", "ABF_PLUS_PLUS"])
+def test_closed_and_genus_islands_are_cut_open(method):
+    sphere, torus, _ = closed_and_genus_objects()
+    summary = run(method=method)
+    assert summary["cut_islands"] == 2 and summary["islands"] == 2, summary
+    assert sum(summary["skipped"].values()) == 0
+    for obj in (sphere, torus):
+        data = read(obj)
+        selected = np.arange(len(obj.data.polygons)) != (0 if obj is torus else -1)
+        polys = np.flatnonzero(selected)
+        loops = poly_loops(data, polys)
+        assert np.isfinite(data["uv"][loops]).all()
+        # One UV island per object: the cut opens the surface into one disk (the seams are new
+        # UV discontinuities, not new islands), with no flipped triangle and real area.
+        islands = uv_islands(data, polys)
+        assert len(islands) == 1, f"{obj.name}: {len(islands)} UV islands"
+        assert_no_flips(data, islands)
+        assert np.abs(signed_areas(data, triangles_of(data, polys))).min() > 0
+        # The cut follows polygon edges: every quad keeps four distinct UV corners, and every
+        # mesh vertex not on the cut keeps one UV (a cut needs at least one seam).
+        uv = data["uv"][loops]
+        assert len(np.unique(np.round(uv, 9), axis=0)) > len(np.unique(data["loop_vert"][loops]))
 
 
 def test_multi_object_edit_mode():

@@ -720,15 +720,28 @@ class Cut:
     total_edge_length: float
 
 
-def cut_to_disk(positions: ArrayLike, triangles: ArrayLike, cost: str = "curvature") -> Cut:
+def cut_to_disk(positions: ArrayLike, triangles: ArrayLike, cost: Union[str, ArrayLike] = "curvature") -> Cut:
     """Cuts a manifold mesh of any genus into a topological disk (``uvf_cut_to_disk``:
     tree-cotree cut graph, Erickson & Har-Peled 2002, steered by a ``curvature`` or ``length``
-    edge cost); any disk method then runs on ``Cut.positions`` / ``Cut.triangles``."""
+    edge cost, or by a caller-given ``(m, 3)`` array: the cost of half-edge ``k`` of triangle
+    ``t`` (corner ``k`` to corner ``k + 1``), finite and ≥ 0, low cost attracting the cut); any
+    disk method then runs on ``Cut.positions`` / ``Cut.triangles``."""
     p, t = _mesh_arrays(positions, triangles)
     options = L.UvfCutOptions()
     lib = L.library()
     lib.uvf_cut_options_default(byref(options))
-    options.cost = _code(cost, {"curvature": L.UVF_CUT_COST_CURVATURE, "length": L.UVF_CUT_COST_LENGTH}, "cost")
+    given = None
+    if isinstance(cost, str):
+        options.cost = _code(cost, {"curvature": L.UVF_CUT_COST_CURVATURE, "length": L.UVF_CUT_COST_LENGTH}, "cost")
+    else:
+        try:
+            given = np.ascontiguousarray(cost, dtype=np.float64)
+        except (TypeError, ValueError) as e:
+            raise InvalidArgument(f"cost must be 'curvature', 'length' or an (m, 3) array of numbers: {e}") from None
+        if given.shape != (len(t), 3):
+            raise InvalidArgument(f"cost array has shape {given.shape}; expected ({len(t)}, 3), one per half-edge")
+        options.cost = L.UVF_CUT_COST_GIVEN
+        options.edge_cost = _f64p(given)
     handle = POINTER(L.UvfCut)()
     _check(lib.uvf_cut_to_disk(_f64p(p), len(p), _u32p(t), len(t), byref(options), byref(handle)))
     try:
