@@ -6,10 +6,9 @@ sphere with seams, disk_nefertiti_small.obj imported with wm.obj_import, a honey
 hexagons (n-gons), a torus. Every check reads the UVs back per loop and recomputes what it
 asserts itself (islands from UV connectivity, orientation, angle distortion).
 
-Undo: bpy in background mode has no undo stack (`bpy.ops.ed.undo.poll()` is False, as for
-`blender -b`), so `ed.undo` cannot run headless; test_undo uses it when available and otherwise
-checks what undo and redo (F9) rely on: the operator declares REGISTER and UNDO, and
-re-executing it on the same input gives bit-identical UVs.
+Undo: bpy in background mode keeps an undo stack, but `ed.undo` polls False unless the context
+has a window and an area; test_undo overrides the context with the window manager's window and
+undoes / redoes the operator for real.
 """
 
 from __future__ import annotations
@@ -595,6 +594,9 @@ def test_multi_object_edit_mode():
 
 
 def test_undo():
+    """Ctrl Z after the operator restores the UVs, and redo brings the unwrap back. bpy's
+    background mode has an undo stack but `ed.undo` polls False without a window and area in the
+    context; the test gives it the window manager's window and an area of its screen."""
     import blender_addon.unwrap as unwrap
 
     assert {"REGISTER", "UNDO"} <= set(unwrap.UVFLAT_OT_unwrap.bl_options)
@@ -602,20 +604,21 @@ def test_undo():
     before = set_uvs(obj, np.random.default_rng(9))
     mask = face_centers(obj)[:, 0] < 0.0
     edit([obj], lambda o: mask)
-    if bpy.ops.ed.undo.poll():  # only with a window manager (not in background mode)
+    window = bpy.context.window_manager.windows[0]
+    with bpy.context.temp_override(window=window, screen=window.screen, area=window.screen.areas[0]):
         bpy.ops.ed.undo_push(message="before uvflat")
         run()
-        bpy.ops.ed.undo()
+        assert bpy.ops.ed.undo.poll()
+        after = read(obj)["uv"]
+        bpy.ops.object.mode_set(mode="EDIT")
+        bpy.ops.ed.undo_push(message="read")
+        assert not np.array_equal(after, before)
+        bpy.ops.ed.undo()  # back over the "read" step
+        bpy.ops.ed.undo()  # back over the unwrap
         np.testing.assert_array_equal(read(obj)["uv"], before)
-        return
-    # Headless: redo (F9) and undo replay the operator on the restored mesh, so re-running it
-    # on the same input must give the same UVs, bit for bit.
-    run(method="NATURAL_CONFORMAL")
-    first = read(obj)["uv"]
-    obj.data.uv_layers.active.uv.foreach_set("vector", before.ravel())
-    edit([obj], lambda o: mask)
-    run(method="NATURAL_CONFORMAL")
-    np.testing.assert_array_equal(read(obj)["uv"], first)
+        bpy.ops.object.mode_set(mode="EDIT")
+        bpy.ops.ed.redo()
+        np.testing.assert_array_equal(read(obj)["uv"], after)
 
 
 def test_picture_of_an_unwrapped_model():
