@@ -7,6 +7,7 @@
 //!     UVFLAT_BENCH_MAX_FACES=300000 cargo bench --bench abf     # also the 207k-face mesh
 //!     UVFLAT_BENCH_ABF_MAX_FACES=20000 cargo bench --bench abf  # also original ABF up to 20k
 //!     UVFLAT_BENCH_MESHES=disk_mountain.obj,disk_bimba_cut.obj cargo bench --bench abf
+//!     UVFLAT_BENCH_PLAIN_GN=1 cargo bench --bench abf  # also the paper's plain Gauss–Newton
 //!
 //! Times: `TriMesh::new` plus the method (angle optimisation + reconstruction), one run each
 //! (OBJ loading not timed). Threads: as many as rayon gives (printed).
@@ -51,6 +52,7 @@ fn disk_meshes(max_faces: usize) -> Vec<(usize, String)> {
 fn main() {
     let max_faces = env_usize("UVFLAT_BENCH_MAX_FACES", 100_000);
     let abf_max_faces = env_usize("UVFLAT_BENCH_ABF_MAX_FACES", 0);
+    let plain_gn = std::env::var("UVFLAT_BENCH_PLAIN_GN").is_ok_and(|v| v == "1");
     println!("threads: {}", rayon::current_num_threads());
     println!();
     println!("| mesh | faces | method | iterations | seconds | final ‖∇L‖ | flipped | invalid angles | angle error mean (°) | natural conformal: seconds | angle error mean (°) |");
@@ -64,14 +66,17 @@ fn main() {
         let conformal = natural_conformal_map(&mesh, None).expect("natural conformal");
         let conformal_seconds = start.elapsed().as_secs_f64();
         let conformal_metrics = distortion(&points, &tris, &conformal, &tris).expect("metrics");
-        let mut variants = vec![(AbfVariant::AbfPlusPlus, "ABF++")];
-        if faces <= abf_max_faces {
-            variants.push((AbfVariant::Abf, "ABF"));
+        let mut variants = vec![(AbfVariant::AbfPlusPlus, 20, "ABF++")];
+        if plain_gn {
+            variants.push((AbfVariant::AbfPlusPlus, 0, "ABF++ (Gauss–Newton only)"));
         }
-        for (variant, label) in variants {
+        if faces <= abf_max_faces {
+            variants.push((AbfVariant::Abf, 0, "ABF"));
+        }
+        for (variant, newton_krylov_steps, label) in variants {
             let start = Instant::now();
             let mesh = TriMesh::new(&obj.positions, &obj.triangles).expect("valid mesh");
-            let options = AbfOptions { variant, ..AbfOptions::default() };
+            let options = AbfOptions { variant, newton_krylov_steps, ..AbfOptions::default() };
             match abf(&mesh, &options) {
                 Ok(result) => {
                     let seconds = start.elapsed().as_secs_f64();

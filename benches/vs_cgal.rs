@@ -3,6 +3,7 @@
 //!
 //!     cargo bench --bench vs_cgal                              # all disk meshes, up to 1.43M faces
 //!     UVFLAT_BENCH_MAX_FACES=100000 cargo bench --bench vs_cgal
+//!     UVFLAT_BENCH_MIN_FACES=100000 cargo bench --bench vs_cgal   # only the meshes of 100k faces or more
 //!
 //! What is timed:
 //! - uvflat: `TriMesh::new` (validation and connectivity) plus the method call, median of 3
@@ -162,6 +163,10 @@ fn main() {
         Ok(v) => v.trim().parse().unwrap_or_else(|_| panic!("UVFLAT_BENCH_MAX_FACES={v} is not a face count")),
         Err(_) => usize::MAX,
     };
+    let min_faces = match std::env::var("UVFLAT_BENCH_MIN_FACES") {
+        Ok(v) => v.trim().parse().unwrap_or_else(|_| panic!("UVFLAT_BENCH_MIN_FACES={v} is not a face count")),
+        Err(_) => 0,
+    };
     let start = Instant::now();
     let exe = cgal::reference_executable().unwrap_or_else(|e| panic!("{e}"));
     eprintln!("CGAL reference program: {} ({:.1} s)", exe.display(), start.elapsed().as_secs_f64());
@@ -178,6 +183,7 @@ fn main() {
         }
     }
 
+    meshes.retain(|disk| disk.faces >= min_faces);
     println!(
         "uvflat vs CGAL 5.5.1 Surface_mesh_parameterization ({} rayon threads for uvflat, CGAL single-threaded)",
         rayon::current_num_threads()

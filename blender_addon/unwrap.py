@@ -16,22 +16,29 @@ Steps (all objects of a multi-object Edit Mode together):
 4. pins: pinned loops never change. With natural conformal and two or more pinned vertices on an
    island, every pin is a point constraint of the solve (``uvf_pinned_natural_conformal_map``);
    if the library finds them conflicting, the two pins farthest apart in UV constrain it and
-   the others are kept where they are but do not constrain the solve (reported).
-   Every other method (and natural conformal with one pin) solves without constraints and
-   then moves the island by the similarity (rotation, uniform scale, translation) that best
-   matches its pins. Islands with pins are not moved by the layout;
+   the others are kept where they are but do not constrain the solve (reported). With ABF++
+   the two pins farthest apart replace the automatic pair of its reconstruction. Every other
+   method (and any method with one pin) solves without constraints and then moves the island
+   by the similarity (rotation, uniform scale, translation) that best matches its pins.
+   Islands with pins are not moved by the layout;
 5. islands without pins are scaled so that their UV area equals their 3D area (relative sizes
    as in 3D), corrected for the image aspect ratio if asked, placed side by side without
    overlapping and fitted into the unit square; optionally Blender's ``uv.pack_islands`` then
    packs them (pinned islands stay locked);
 6. back to Edit Mode; the operator reports islands, faces, seconds and the mean angle
    distortion in the status bar.
+
+Run from the menu (``invoke``), step 3 runs on a worker thread while the operator stays modal:
+the progress counter follows it and Esc cancels it (every library call gets a progress
+callback, so the running method stops within one iteration) and leaves the mesh as it was.
+Redo (F9), scripts and background mode run the same steps synchronously (``execute``).
 """
 
 from __future__ import annotations
 
+import threading
 import time
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 import bpy
 import numpy as np
@@ -108,6 +115,318 @@ class _Job:
         return _Job(obj_index, island, vertices, uv[pin_loops[first]] if len(pin_loops) else np.zeros((0, 2)))
 
 
+class Cancelled(Exception):
+    """The user pressed Esc (or a caller's ``cancelled()`` said so) during the solve."""
+
+
+class UnwrapRun:
+    """One unwrap of the selected faces of ``objects`` (in Object Mode), in three steps:
+    ``__init__`` reads the meshes and splits the islands (main thread), :meth:`solve` solves
+    them (numpy and the library only, so it may run on a worker thread), :meth:`write_back`
+    lays them out and writes the UVs (main thread)."""
+
+    def __init__(self, uvflat: Any, settings: Dict[str, Any], objects: List[bpy.types.Object], correct_aspect: bool):
+        self.uvflat = uvflat
+        self.settings = settings
+        self.objects = objects
+        self.start = time.perf_counter()
+        self.cancel = threading.Event()
+        self.fraction = 0.0
+        self.error: Optional[BaseException] = None
+        self.meshes: List[Tuple[Any, ...]] = []
+        self.jobs: List[_Job] = []
+        for k, obj in enumerate(objects):
+            self._read(k, obj, correct_aspect)
+        self.solved: List[_Job] = []
+        self.skipped = {"closed": 0, "not_disk": 0, "invalid": 0}
+        self.messages: List[str] = []
+        self.unenforced_pins = 0
+        self.cut_islands = 0
+        self.solve_seconds = 0.0
+
+    def _read(self, k: int, obj: bpy.types.Object, correct_aspect: bool) -> None:
+        """Reads one mesh and queues its islands."""
+        me = obj.data
+        if me.uv_layers.active is None:
+            me.uv_layers.new(name="UVMap")
+        layer = me.uv_layers.active
+        n_loops, n_polys = len(me.loops), len(me.polygons)
+        me.calc_loop_triangles()
+        positions = _get(me.vertices, "co", np.float32, len(me.vertices), 3).astype(np.float64)
+        selected = _get(me.polygons, "select", bool, n_polys) & ~_get(me.polygons, "hide", bool, n_polys)
+        split = isl.split_islands(
+            positions,
+            _get(me.loops, "vertex_index", np.int32, n_loops),
+            _get(me.loops, "edge_index", np.int32, n_loops),
+            _get(me.polygons, "loop_start", np.int32, n_polys),
+            _get(me.polygons, "loop_total", np.int32, n_polys),
+            selected,
+            _get(me.edges, "use_seam", bool, len(me.edges)),
+            _get(me.loop_triangles, "loops", np.int32, len(me.loop_triangles), 3),
+            _get(me.loop_triangles, "polygon_index", np.int32, len(me.loop_triangles)),
+        )
+        # The attribute accessors (uv, pin, vertex_selection, edge_selection), not the legacy
+        # `layer.data` wrappers: in Blender 4.5, `layer.data.foreach_set("select", ...)`
+        # corrupts memory.
+        uv = _get(layer.uv, "vector", np.float32, n_loops, 2).astype(np.float64)
+        pinned = _get(layer.pin, "value", bool, n_loops) if len(layer.pin) == n_loops else np.zeros(n_loops, bool)
+        self.meshes.append((obj, me, layer, uv, pinned, image_aspect(obj) if correct_aspect else 1.0))
+        self.jobs.extend(_Job.of(k, island, uv, pinned) for island in split.islands)
+
+    # --- solve (any thread) ------------------------------------------------------------------
+
+    def solve_catching(self) -> None:
+        """:meth:`solve` for a worker thread: the exception, if any, is kept in ``error``."""
+        try:
+            self.solve(lambda f: None)
+        except BaseException as e:  # noqa: B902 - handed to the main thread
+            self.error = e
+
+    def solve(self, progress: Callable[[float], None]) -> None:
+        """Solves every island; ``progress(fraction)`` after each one. Raises
+        :class:`Cancelled` as soon as ``self.cancel`` is set (the library's own progress
+        callback stops the running method within one iteration)."""
+        solve_start = time.perf_counter()
+        for index, job in enumerate(self.jobs):
+            self._report(index / len(self.jobs), progress)
+            try:
+                self._solve_job(index, job, lambda f: self._keep_going((index + f) / len(self.jobs)))
+            except self.uvflat.Cancelled:
+                raise Cancelled() from None
+        self.solve_seconds = time.perf_counter() - solve_start
+
+    def _report(self, fraction: float, progress: Callable[[float], None]) -> None:
+        if self.cancel.is_set():
+            raise Cancelled()
+        self.fraction = fraction
+        progress(fraction)
+
+    def _keep_going(self, fraction: float) -> bool:
+        """The library's progress callback: records the fraction, False once cancelled."""
+        self.fraction = fraction
+        return not self.cancel.is_set()
+
+    def _solve_job(self, index: int, job: _Job, progress: Callable[[float], bool]) -> None:
+        uvflat = self.uvflat
+        problem = self._problem(job.island)
+        if problem is not None and problem[0] in ("closed", "not_disk") and self.settings["cut_closed"]:
+            cut = self._cut(job.island)
+            if isinstance(cut, str):
+                problem = ("invalid", cut)
+            else:
+                _, _, _, uv, pinned, _ = self.meshes[job.obj_index]
+                job = self.jobs[index] = _Job.of(job.obj_index, cut, uv, pinned)
+                problem = None
+                self.cut_islands += 1
+        if problem is not None:
+            self._skip(problem[0], problem[1])
+            return
+        try:
+            job.uv, extra = self._solve(job, progress)
+        except uvflat.Cancelled:
+            raise
+        except uvflat.Error as e:
+            self._skip("invalid", f"island of {len(job.island.polys)} faces: {e.message or e}")
+            return
+        self.unenforced_pins += extra
+        self.solved.append(job)
+
+    def _skip(self, kind: str, message: str) -> None:
+        self.skipped[kind] += 1
+        if len(self.messages) < 3:
+            self.messages.append(message)
+
+    def _problem(self, island: isl.Island) -> Optional[Tuple[str, str]]:
+        """Why an island cannot be unwrapped (kind, message), or None."""
+        uvflat = self.uvflat
+        try:
+            info = uvflat.mesh_info(island.positions, island.triangles)
+        except uvflat.Error as e:
+            return "invalid", f"island of {len(island.polys)} faces: {e.message or e}"
+        if info.boundary_loops == 0:
+            return "closed", f"closed island of {len(island.polys)} faces"
+        if info.genus > 0:
+            return "not_disk", f"island of {len(island.polys)} faces has genus {info.genus}"
+        return None
+
+    def _cut(self, island: isl.Island) -> Any:
+        """The island cut into a disk (``uvflat.cut_to_disk``), or a message saying why not.
+        The cost is the edge length, and a million times that on the diagonals of n-gon
+        tessellations, so the seams follow polygon edges (a loop has only one UV)."""
+        p, t = island.positions, island.triangles.astype(np.int64)
+        length = np.linalg.norm(p[np.roll(t, -1, axis=1)] - p[t], axis=2)
+        cost = length * np.where(island.triangle_diagonals, 1e6, 1.0)
+        try:
+            cut = self.uvflat.cut_to_disk(p, island.triangles, cost=cost)
+        except self.uvflat.Error as e:
+            return f"island of {len(island.polys)} faces cannot be cut: {e.message or e}"
+        opened = isl.cut_open(island, cut.triangles, cut.positions)
+        if opened is None:
+            return f"island of {len(island.polys)} faces: the cut runs through an n-gon; mark seams by hand"
+        return opened
+
+    def _solve(self, job: _Job, progress: Callable[[float], bool]) -> Tuple[np.ndarray, int]:
+        """UVs of the island's vertices, and how many pins were not enforced."""
+        uvflat, method = self.uvflat, self.settings["method"]
+        p, t = job.island.positions, job.island.triangles
+        pins, pin_uv = job.pin_vertices, job.pin_uv
+        pair = _farthest_pin_pair(pins, pin_uv)
+        if method == "NATURAL_CONFORMAL":
+            if pair is not None:
+                # Every pin is a constraint (Lagrange point constraints, Desbrun et al. 2002
+                # §4.1); pins the library finds conflicting fall back to the farthest pair.
+                try:
+                    all_pins = {int(v): tuple(pin_uv[k]) for k, v in enumerate(pins)}
+                    return uvflat.pinned_natural_conformal_map(p, t, all_pins, progress=progress), 0
+                except uvflat.InvalidArgument:
+                    return uvflat.natural_conformal_map(p, t, pins=pair, progress=progress), len(pins) - 2
+            uv = uvflat.natural_conformal_map(p, t, progress=progress)
+        elif method == "ABF_PLUS_PLUS":
+            # The two pins farthest apart replace the automatic pair of the reconstruction;
+            # further pins keep their UVs but do not constrain it.
+            uv, _ = uvflat.abf(p, t, variant="abf++", pins=pair, progress=progress)
+            if pair is not None:
+                return uv, len(pins) - 2
+        elif method in _NONLINEAR:
+            uv, _ = uvflat.nonlinear_map(
+                p, t, _NONLINEAR[method], iterations=self.settings["iterations"], progress=progress
+            )
+        else:
+            kwargs: Dict[str, Any] = {"weights": _FIXED_WEIGHTS[method], "boundary": self.settings["boundary"]}
+            if method == "INTRINSIC":
+                kwargs.update(lambda_=self.settings["lambda"], mu=self.settings["mu"])
+            uv = uvflat.fixed_boundary_map(p, t, progress=progress, **kwargs)
+        if len(pins):
+            uv = _fit_to_pins(uv, job)
+        return uv, 0
+
+    # --- write back (main thread) --------------------------------------------------------------
+
+    def write_back(self, margin: float) -> Dict[str, Any]:
+        """Scales, lays out and writes the solved islands (pinned loops never change); returns
+        the summary the operator reports."""
+        self._layout(margin)
+        unwrapped_polys = self._write_uvs()
+        return self._summary(unwrapped_polys)
+
+    def _layout(self, margin: float) -> None:
+        """Islands without pins: UV area = 3D area, aspect correction, side by side in [0, 1]²."""
+        free = [job for job in self.solved if len(job.pin_vertices) == 0]
+        sizes = []
+        for job in free:
+            island = job.island
+            area_3d = float(isl.triangle_areas(island.positions, island.triangles).sum())
+            uv = isl.scale_to_area(job.uv, island.triangles, area_3d)
+            aspect = self.meshes[job.obj_index][5]
+            if aspect > 1:
+                uv[:, 0] /= aspect
+            elif aspect < 1:
+                uv[:, 1] *= aspect
+            uv -= uv.min(axis=0)
+            job.uv = uv
+            sizes.append(uv.max(axis=0))
+        corners, scale = isl.shelf_layout(np.array(sizes).reshape(-1, 2), margin)
+        for job, corner in zip(free, corners):
+            job.uv = (job.uv + corner) * scale
+
+    def _write_uvs(self) -> List[np.ndarray]:
+        """Writes every solved island's UVs into its mesh and selects them; returns the
+        unwrapped polygons per object."""
+        unwrapped_polys: List[np.ndarray] = [np.zeros(0, dtype=np.int64) for _ in self.objects]
+        for job in self.solved:
+            _, _, _, uv, pinned, _ = self.meshes[job.obj_index]
+            loops = job.island.loops
+            free_loops = ~pinned[loops]
+            uv[loops[free_loops]] = job.uv[job.island.loop_vertex[free_loops]]
+            unwrapped_polys[job.obj_index] = np.concatenate([unwrapped_polys[job.obj_index], job.island.polys])
+        for k, (obj, me, layer, uv, pinned, _) in enumerate(self.meshes):
+            layer.uv.foreach_set("vector", uv.astype(np.float32).ravel())
+            # Select the UVs of unwrapped faces (as Blender's unwrap leaves them), so Pack
+            # Islands and the UV editor see them.
+            sel = np.zeros(len(me.loops), dtype=bool)
+            starts = _get(me.polygons, "loop_start", np.int32, len(me.polygons))
+            totals = _get(me.polygons, "loop_total", np.int32, len(me.polygons))
+            polys = unwrapped_polys[k]
+            if len(polys):
+                idx = np.repeat(starts[polys], totals[polys]) + _ramp(totals[polys])
+                sel[idx] = True
+                for selection in (layer.vertex_selection, layer.edge_selection):
+                    selection.foreach_set("value", _get(selection, "value", bool, len(me.loops)) | sel)
+            me.update()
+        return unwrapped_polys
+
+    def _mean_angle_distortion(self) -> float:
+        weighted, counted = 0.0, 0
+        for job in self.solved:
+            m = self.uvflat.metrics(job.island.positions, job.island.triangles, job.uv)
+            if np.isfinite(m.angle_mean):
+                weighted += m.angle_mean * m.triangles
+                counted += m.triangles
+        return weighted / counted if counted else float("nan")
+
+    def _warnings(self) -> List[str]:
+        warnings = []
+        if self.cut_islands:
+            warnings.append(f"{self.cut_islands} closed or higher-genus island(s) cut open along new seams (not marked)")
+        if self.skipped["closed"]:
+            warnings.append(f"{self.skipped['closed']} closed island(s) (no boundary) skipped: mark a seam to open them")
+        if self.skipped["not_disk"]:
+            warnings.append(f"{self.skipped['not_disk']} island(s) with genus > 0 skipped: add seams to cut the handles")
+        if self.skipped["invalid"]:
+            warnings.append(f"{self.skipped['invalid']} island(s) rejected by uvflat")
+        if self.messages:
+            warnings.append(" | ".join(self.messages))
+        if self.unenforced_pins:
+            warnings.append(
+                f"{self.unenforced_pins} pinned vertices kept in place but not enforced in the solve "
+                "(conflicting pins, or more than two with ABF++: the two farthest apart constrain it)"
+            )
+        return warnings
+
+    def _summary(self, unwrapped_polys: List[np.ndarray]) -> Dict[str, Any]:
+        jobs, solved = self.jobs, self.solved
+        return {
+            "islands": len(solved),
+            "faces": int(sum(len(j.island.polys) for j in solved)),
+            "selected_faces": int(sum(len(j.island.polys) for j in jobs)),
+            "skipped": dict(self.skipped),
+            "cut_islands": self.cut_islands,
+            "unenforced_pins": self.unenforced_pins,
+            "angle_mean": self._mean_angle_distortion(),
+            "solve_seconds": self.solve_seconds,
+            "warnings": self._warnings(),
+            "unwrapped_polys": int(sum(len(p) for p in unwrapped_polys)),
+            "skipped_polys": [
+                np.setdiff1d(np.concatenate([j.island.polys for j in jobs if j.obj_index == k] or [np.zeros(0, int)]), p)
+                for k, p in enumerate(unwrapped_polys)
+            ],
+            "island_faces": [(j.obj_index, j.island.polys.copy()) for j in solved],
+        }
+
+
+def _farthest_pin_pair(pins: np.ndarray, pin_uv: np.ndarray) -> Optional[Tuple[Tuple[int, Tuple[float, float]], ...]]:
+    """The two pins farthest apart in UV as ``((v, (u, v)), (v, (u, v)))``, or None when there
+    are fewer than two distinct pinned positions."""
+    if len(pins) < 2:
+        return None
+    i, j = isl.farthest_pair(pin_uv)
+    if not np.linalg.norm(pin_uv[i] - pin_uv[j]) > 0:
+        return None
+    return (int(pins[i]), tuple(map(float, pin_uv[i]))), (int(pins[j]), tuple(map(float, pin_uv[j])))
+
+
+def _fit_to_pins(uv: np.ndarray, job: _Job) -> np.ndarray:
+    """The island moved by the similarity that best matches its pins (one pin: the size of
+    the 3D surface, translated onto the pin)."""
+    island, pins = job.island, job.pin_vertices
+    if len(pins) == 1:
+        area_3d = float(isl.triangle_areas(island.positions, island.triangles).sum())
+        uv = isl.scale_to_area(uv, island.triangles, area_3d)
+    a, b = isl.similarity_fit(uv[pins], job.pin_uv)
+    z = a * (uv[:, 0] + 1j * uv[:, 1]) + b
+    return np.stack([z.real, z.imag], axis=1)
+
+
 class UVFLAT_OT_unwrap(bpy.types.Operator):
     """Unwrap the selected faces with uvflat (islands split at seams and the selection border;
     pinned UVs kept)"""
@@ -164,26 +483,80 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
     # --- the run -----------------------------------------------------------------------------
 
     def execute(self, context: bpy.types.Context) -> set:
+        """Unwraps synchronously (redo panel, scripts, background mode)."""
+        run = self._start(context)
+        if run is None:
+            return {"CANCELLED"}
+        wm = context.window_manager
+        wm.progress_begin(0, 100)
+        try:
+            run.solve(lambda f: wm.progress_update(100 * f))
+        finally:
+            wm.progress_end()
+        return self._finish(context, run)
+
+    def invoke(self, context: bpy.types.Context, event: Any) -> set:
+        """Interactive: the islands are solved on a worker thread (the library releases the GIL)
+        while this operator stays modal, so Esc cancels — within one iteration of the running
+        method, since every library call gets a progress callback — and the mesh is left as it
+        was. Without a window (background mode) it is ``execute``."""
+        if context.window is None or bpy.app.background:
+            return self.execute(context)
+        run = self._start(context)
+        if run is None:
+            return {"CANCELLED"}
+        self._run = run
+        self._thread = threading.Thread(target=run.solve_catching, name="uvflat-unwrap", daemon=True)
+        wm = context.window_manager
+        wm.progress_begin(0, 100)
+        self._timer = wm.event_timer_add(0.1, window=context.window)
+        wm.modal_handler_add(self)
+        context.workspace.status_text_set("uvflat: unwrapping… (Esc cancels)")
+        self._thread.start()
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context: bpy.types.Context, event: Any) -> set:
+        run = self._run
+        if event.type == "ESC" and event.value == "PRESS":
+            run.cancel.set()
+        if event.type != "TIMER" or self._thread.is_alive():
+            if event.type == "TIMER":
+                context.window_manager.progress_update(100 * run.fraction)
+            return {"RUNNING_MODAL"}  # the mesh is being read by the solve: nothing else may edit it
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+        context.workspace.status_text_set(None)
+        if run.error is not None:
+            bpy.ops.object.mode_set(mode="EDIT")
+            if isinstance(run.error, Cancelled):
+                self.report({"WARNING"}, "uvflat: cancelled; UVs unchanged")
+            else:
+                self.report({"ERROR"}, f"uvflat: {run.error}")
+            return {"CANCELLED"}
+        return self._finish(context, run)
+
+    def _start(self, context: bpy.types.Context) -> Optional["UnwrapRun"]:
+        """Loads the library, switches to Object Mode and reads the selected islands."""
         try:
             uvflat = binding()
         except Exception as e:  # LibraryError, ImportError: nothing to do without the library
             self.report({"ERROR"}, f"uvflat: cannot load the library: {e}")
-            return {"CANCELLED"}
-
+            return None
         objects = [o for o in getattr(context, "objects_in_mode_unique_data", [context.edit_object]) if o.type == "MESH"]
-        start = time.perf_counter()
         LAST_RUN.clear()
-        wm = context.window_manager
         bpy.ops.object.mode_set(mode="OBJECT")
-        wm.progress_begin(0, 100)
+        return UnwrapRun(uvflat, self.settings(), objects, self.correct_aspect)
+
+    def _finish(self, context: bpy.types.Context, run: "UnwrapRun") -> set:
+        """Lays out and writes back the solved islands, goes back to Edit Mode, packs, reports."""
         try:
-            summary = self._unwrap_objects(uvflat, objects, lambda f: wm.progress_update(100 * f))
+            summary = run.write_back(self.margin)
         finally:
-            wm.progress_end()
             bpy.ops.object.mode_set(mode="EDIT")
         if self.pack and summary["unwrapped_polys"]:
-            self._pack(objects, summary)
-        seconds = time.perf_counter() - start
+            self._pack(run.objects, summary)
+        seconds = time.perf_counter() - run.start
         summary["seconds"] = seconds
         LAST_RUN.update(summary)
 
@@ -198,225 +571,17 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
             self.report({"INFO"}, message)
         return {"FINISHED"}
 
-    def _unwrap_objects(self, uvflat: Any, objects: List[bpy.types.Object], progress: Any) -> Dict[str, Any]:
-        """Reads, splits, solves and writes back every object; ``progress(fraction)`` is called
-        after each island (Blender shows it as the cursor's progress counter)."""
-        jobs: List[_Job] = []
-        meshes = []
-        skipped = {"closed": 0, "not_disk": 0, "invalid": 0}
-        messages: List[str] = []
-        unenforced_pins = 0
-        for k, obj in enumerate(objects):
-            me = obj.data
-            if me.uv_layers.active is None:
-                me.uv_layers.new(name="UVMap")
-            layer = me.uv_layers.active
-            n_loops, n_polys = len(me.loops), len(me.polygons)
-            me.calc_loop_triangles()
-            positions = _get(me.vertices, "co", np.float32, len(me.vertices), 3).astype(np.float64)
-            selected = _get(me.polygons, "select", bool, n_polys) & ~_get(me.polygons, "hide", bool, n_polys)
-            split = isl.split_islands(
-                positions,
-                _get(me.loops, "vertex_index", np.int32, n_loops),
-                _get(me.loops, "edge_index", np.int32, n_loops),
-                _get(me.polygons, "loop_start", np.int32, n_polys),
-                _get(me.polygons, "loop_total", np.int32, n_polys),
-                selected,
-                _get(me.edges, "use_seam", bool, len(me.edges)),
-                _get(me.loop_triangles, "loops", np.int32, len(me.loop_triangles), 3),
-                _get(me.loop_triangles, "polygon_index", np.int32, len(me.loop_triangles)),
-            )
-            # The attribute accessors (uv, pin, vertex_selection, edge_selection), not the legacy
-            # `layer.data` wrappers: in Blender 4.5, `layer.data.foreach_set("select", ...)`
-            # corrupts memory.
-            uv = _get(layer.uv, "vector", np.float32, n_loops, 2).astype(np.float64)
-            pinned = _get(layer.pin, "value", bool, n_loops) if len(layer.pin) == n_loops else np.zeros(n_loops, bool)
-            meshes.append((obj, me, layer, uv, pinned, image_aspect(obj) if self.correct_aspect else 1.0))
-            jobs.extend(_Job.of(k, island, uv, pinned) for island in split.islands)
-
-        # Solve.
-        solved: List[_Job] = []
-        solve_start = time.perf_counter()
-        cut_islands = 0
-        for index, job in enumerate(jobs):
-            progress(index / len(jobs))
-            problem = self._problem(uvflat, job.island)
-            if problem is not None and problem[0] in ("closed", "not_disk") and self.cut_closed:
-                cut = self._cut(uvflat, job.island)
-                if isinstance(cut, str):
-                    problem = ("invalid", cut)
-                else:
-                    _, _, _, uv, pinned, _ = meshes[job.obj_index]
-                    job = jobs[index] = _Job.of(job.obj_index, cut, uv, pinned)
-                    problem = None
-                    cut_islands += 1
-            if problem is not None:
-                skipped[problem[0]] += 1
-                if len(messages) < 3:
-                    messages.append(problem[1])
-                continue
-            try:
-                job.uv, extra = self._solve(uvflat, job)
-            except uvflat.Error as e:
-                skipped["invalid"] += 1
-                if len(messages) < 3:
-                    messages.append(f"island of {len(job.island.polys)} faces: {e.message or e}")
-                continue
-            unenforced_pins += extra
-            solved.append(job)
-
-        solve_seconds = time.perf_counter() - solve_start
-
-        # Area scaling, aspect, layout (islands without pins only).
-        free = [job for job in solved if len(job.pin_vertices) == 0]
-        sizes = []
-        for job in free:
-            island = job.island
-            area_3d = float(isl.triangle_areas(island.positions, island.triangles).sum())
-            uv = isl.scale_to_area(job.uv, island.triangles, area_3d)
-            aspect = meshes[job.obj_index][5]
-            if aspect > 1:
-                uv[:, 0] /= aspect
-            elif aspect < 1:
-                uv[:, 1] *= aspect
-            uv -= uv.min(axis=0)
-            job.uv = uv
-            sizes.append(uv.max(axis=0))
-        corners, scale = isl.shelf_layout(np.array(sizes).reshape(-1, 2), self.margin)
-        for job, corner in zip(free, corners):
-            job.uv = (job.uv + corner) * scale
-
-        # Distortion, then write back (pinned loops never change).
-        weighted, counted = 0.0, 0
-        for job in solved:
-            m = uvflat.metrics(job.island.positions, job.island.triangles, job.uv)
-            if np.isfinite(m.angle_mean):
-                weighted += m.angle_mean * m.triangles
-                counted += m.triangles
-        unwrapped_polys: List[np.ndarray] = [np.zeros(0, dtype=np.int64) for _ in objects]
-        for job in solved:
-            _, _, _, uv, pinned, _ = meshes[job.obj_index]
-            loops = job.island.loops
-            free_loops = ~pinned[loops]
-            uv[loops[free_loops]] = job.uv[job.island.loop_vertex[free_loops]]
-            unwrapped_polys[job.obj_index] = np.concatenate([unwrapped_polys[job.obj_index], job.island.polys])
-        for k, (obj, me, layer, uv, pinned, _) in enumerate(meshes):
-            layer.uv.foreach_set("vector", uv.astype(np.float32).ravel())
-            # Select the UVs of unwrapped faces (as Blender's unwrap leaves them), so Pack
-            # Islands and the UV editor see them.
-            sel = np.zeros(len(me.loops), dtype=bool)
-            starts = _get(me.polygons, "loop_start", np.int32, len(me.polygons))
-            totals = _get(me.polygons, "loop_total", np.int32, len(me.polygons))
-            polys = unwrapped_polys[k]
-            if len(polys):
-                idx = np.repeat(starts[polys], totals[polys]) + _ramp(totals[polys])
-                sel[idx] = True
-                for selection in (layer.vertex_selection, layer.edge_selection):
-                    selection.foreach_set("value", _get(selection, "value", bool, len(me.loops)) | sel)
-            me.update()
-
-        warnings = []
-        if cut_islands:
-            warnings.append(f"{cut_islands} closed or higher-genus island(s) cut open along new seams (not marked)")
-        if skipped["closed"]:
-            warnings.append(f"{skipped['closed']} closed island(s) (no boundary) skipped: mark a seam to open them")
-        if skipped["not_disk"]:
-            warnings.append(f"{skipped['not_disk']} island(s) with genus > 0 skipped: add seams to cut the handles")
-        if skipped["invalid"]:
-            warnings.append(f"{skipped['invalid']} island(s) rejected by uvflat")
-        if messages:
-            warnings.append(" | ".join(messages))
-        if unenforced_pins:
-            warnings.append(
-                f"{unenforced_pins} pinned vertices kept in place but not enforced in the solve "
-                "(uvflat's natural conformal map takes exactly 2 pins)"
-            )
+    def settings(self) -> Dict[str, Any]:
+        """The operator's solve options as plain values (the worker thread must not touch the
+        operator's RNA properties)."""
         return {
-            "islands": len(solved),
-            "faces": int(sum(len(j.island.polys) for j in solved)),
-            "selected_faces": int(sum(len(j.island.polys) for j in jobs)),
-            "skipped": skipped,
-            "cut_islands": cut_islands,
-            "unenforced_pins": unenforced_pins,
-            "angle_mean": weighted / counted if counted else float("nan"),
-            "solve_seconds": solve_seconds,
-            "warnings": warnings,
-            "unwrapped_polys": int(sum(len(p) for p in unwrapped_polys)),
-            "skipped_polys": [
-                np.setdiff1d(np.concatenate([j.island.polys for j in jobs if j.obj_index == k] or [np.zeros(0, int)]), p)
-                for k, p in enumerate(unwrapped_polys)
-            ],
-            "island_faces": [(j.obj_index, j.island.polys.copy()) for j in solved],
+            "method": self.method,
+            "boundary": self.boundary.lower(),
+            "lambda": self.lambda_,
+            "mu": self.mu,
+            "iterations": self.iterations,
+            "cut_closed": self.cut_closed,
         }
-
-    @staticmethod
-    def _problem(uvflat: Any, island: isl.Island) -> Optional[Tuple[str, str]]:
-        """Why an island cannot be unwrapped (kind, message), or None."""
-        try:
-            info = uvflat.mesh_info(island.positions, island.triangles)
-        except uvflat.Error as e:
-            return "invalid", f"island of {len(island.polys)} faces: {e.message or e}"
-        if info.boundary_loops == 0:
-            return "closed", f"closed island of {len(island.polys)} faces"
-        if info.genus > 0:
-            return "not_disk", f"island of {len(island.polys)} faces has genus {info.genus}"
-        return None
-
-    @staticmethod
-    def _cut(uvflat: Any, island: isl.Island) -> Any:
-        """The island cut into a disk (``uvflat.cut_to_disk``), or a message saying why not.
-        The cost is the edge length, and a million times that on the diagonals of n-gon
-        tessellations, so the seams follow polygon edges (a loop has only one UV)."""
-        p, t = island.positions, island.triangles.astype(np.int64)
-        length = np.linalg.norm(p[np.roll(t, -1, axis=1)] - p[t], axis=2)
-        cost = length * np.where(island.triangle_diagonals, 1e6, 1.0)
-        try:
-            cut = uvflat.cut_to_disk(p, island.triangles, cost=cost)
-        except uvflat.Error as e:
-            return f"island of {len(island.polys)} faces cannot be cut: {e.message or e}"
-        opened = isl.cut_open(island, cut.triangles, cut.positions)
-        if opened is None:
-            return f"island of {len(island.polys)} faces: the cut runs through an n-gon; mark seams by hand"
-        return opened
-
-    def _solve(self, uvflat: Any, job: _Job) -> Tuple[np.ndarray, int]:
-        """UVs of the island's vertices, and how many pins were not enforced."""
-        island = job.island
-        pins = job.pin_vertices
-        if self.method == "NATURAL_CONFORMAL":
-            if len(pins) >= 2:
-                i, j = isl.farthest_pair(job.pin_uv)
-                if np.linalg.norm(job.pin_uv[i] - job.pin_uv[j]) > 0:
-                    # Every pin is a constraint (Lagrange point constraints, Desbrun et al. 2002
-                    # §4.1); pins the library finds conflicting fall back to the farthest pair.
-                    try:
-                        all_pins = {int(v): tuple(job.pin_uv[k]) for k, v in enumerate(pins)}
-                        return uvflat.pinned_natural_conformal_map(island.positions, island.triangles, all_pins), 0
-                    except uvflat.InvalidArgument:
-                        pair = ((int(pins[i]), tuple(job.pin_uv[i])), (int(pins[j]), tuple(job.pin_uv[j])))
-                        uv = uvflat.natural_conformal_map(island.positions, island.triangles, pins=pair)
-                        return uv, len(pins) - 2
-            uv = uvflat.natural_conformal_map(island.positions, island.triangles)
-        elif self.method == "ABF_PLUS_PLUS":
-            uv, _ = uvflat.abf(island.positions, island.triangles, variant="abf++")
-        elif self.method in _NONLINEAR:
-            method = _NONLINEAR[self.method]
-            uv, _ = uvflat.nonlinear_map(island.positions, island.triangles, method, iterations=self.iterations)
-        else:
-            kwargs: Dict[str, Any] = {"weights": _FIXED_WEIGHTS[self.method], "boundary": self.boundary.lower()}
-            if self.method == "INTRINSIC":
-                kwargs.update(lambda_=self.lambda_, mu=self.mu)
-            uv = uvflat.fixed_boundary_map(island.positions, island.triangles, **kwargs)
-        if len(pins):
-            # Place the island by the similarity that best matches its pins (one pin: keep the
-            # size of the 3D surface and translate).
-            if len(pins) == 1:
-                area_3d = float(isl.triangle_areas(island.positions, island.triangles).sum())
-                uv = isl.scale_to_area(uv, island.triangles, area_3d)
-            a, b = isl.similarity_fit(uv[pins], job.pin_uv)
-            z = a * (uv[:, 0] + 1j * uv[:, 1]) + b
-            uv = np.stack([z.real, z.imag], axis=1)
-        return uv, 0
 
     def _pack(self, objects: List[bpy.types.Object], summary: Dict[str, Any]) -> None:
         """Blender's Pack Islands over the unwrapped islands only: faces that were skipped are

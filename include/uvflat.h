@@ -25,6 +25,26 @@
 #define UVF_ABF_VARIANT_ABF_PLUS_PLUS 1
 
 /**
+ * Charts flattened by the natural conformal map / LSCM (the default; charts that flip are split).
+ */
+#define UVF_ATLAS_CHART_NATURAL_CONFORMAL 0
+
+/**
+ * Charts flattened by the mean value map on a circle (never flips).
+ */
+#define UVF_ATLAS_CHART_MEAN_VALUE 1
+
+/**
+ * Charts flattened by SLIM from the natural conformal map (or mean value) start; never flips.
+ */
+#define UVF_ATLAS_CHART_SLIM 2
+
+/**
+ * Charts flattened by minimizing Sander's L2 stretch from the same start; never flips.
+ */
+#define UVF_ATLAS_CHART_STRETCH 3
+
+/**
  * Default edge cost: length divided by `1 + 3·θ/π` (θ the dihedral angle).
  */
 #define UVF_CUT_COST_CURVATURE 0
@@ -55,6 +75,16 @@
  * projection (no guarantee).
  */
 #define UVF_SPHERE_STEREOGRAPHIC 2
+
+/**
+ * Edge-length distortion `Σ_edges (|u_i − u_j|² / |x_i − x_j|² − 1)²` (Desbrun et al. 2002 §5.1).
+ */
+#define UVF_ENERGY_EDGE_LENGTH 0
+
+/**
+ * Area distortion `Σ_faces ((A^uv / A^3D)² − 1)²` (Desbrun et al. 2002 §5.1, as printed).
+ */
+#define UVF_ENERGY_AREA 1
 
 /**
  * Tutte's uniform weights.
@@ -147,6 +177,36 @@
 #define UVF_NONLINEAR_DEGENER 5
 
 /**
+ * Curvature neighbourhood: the triangles around the vertices at most `rings − 1` edges away.
+ */
+#define UVF_CURVATURE_RINGS 0
+
+/**
+ * Curvature neighbourhood: the triangles around the vertices within `radius` (graph distance).
+ */
+#define UVF_CURVATURE_RADIUS 1
+
+/**
+ * No field smoothing.
+ */
+#define UVF_SMOOTH_NONE 0
+
+/**
+ * Field smoothing with directions equal modulo 2π (poles).
+ */
+#define UVF_SMOOTH_2PI 1
+
+/**
+ * Field smoothing modulo π (half-poles).
+ */
+#define UVF_SMOOTH_PI 2
+
+/**
+ * Field smoothing modulo π/2 (quarter-poles; the default).
+ */
+#define UVF_SMOOTH_HALF_PI 4
+
+/**
  * Largest fraction of the total weight one side may take.
  */
 #define MAX_SIDE_FRACTION 0.55
@@ -165,6 +225,47 @@
  * Fraction of the maximal flip-free step tried first (Smith & Schaefer 2015).
  */
 #define MAX_STEP_FRACTION 0.8
+
+/**
+ * Periods per chart edge used by [`default_omega`]: "we set ω to ten times the average edge
+ * length" (§2.2), read as one 2π period per ten mean edge lengths.
+ */
+#define EDGES_PER_PERIOD 10.0
+
+/**
+ * Angle-sum tolerance of the singular-vertex test (radians).
+ */
+#define ANGLE_SUM_TOLERANCE 1e-6
+
+/**
+ * Default weight ε of the unit-norm penalty of the smoothing. The paper gives no value for
+ * it (10⁻³ is the periodic solve's). Where the fitting weight is small (isotropic regions)
+ * nothing else anchors the norms: with ε = 10⁻³ shrinking the unknowns towards zero is
+ * cheaper than making them smooth, and the field collapses to |z| ≈ 0 (its directions are
+ * then noise). With ε = 0.1 the penalty outweighs the smoothing term per vertex, |z| stays
+ * near 1 away from singularities, and an icosphere gets the 2, 4 or 8 singularities of Fig. 9
+ * (ε = 1 makes Newton stall in indefinite regions on fine meshes).
+ */
+#define SMOOTHING_EPSILON 0.1
+
+/**
+ * Default Newton iteration limit of the smoothing. Far from convergence the penalty's Hessian
+ * is indefinite near the field's singularities and the clamped steps converge linearly, while
+ * the singularities settle within the first few iterations; beyond 8 iterations the field
+ * hardly changes on the meshes of `../shared/meshes` (the periodic solve, not the smoothing,
+ * is what the paper's 10⁻⁶ tolerance is for).
+ */
+#define SMOOTHING_ITERATIONS 8
+
+/**
+ * Smallest fitting weight (isotropic vertices).
+ */
+#define MIN_FITTING_WEIGHT 1e-4
+
+/**
+ * Largest anisotropy weight |kmax/kmin| − 1 of the fitting term.
+ */
+#define MAX_ANISOTROPY_WEIGHT 100.0
 
 /**
  * Status codes of the C ABI. `Ok` is 0; every failure class has its own code.
@@ -210,16 +311,40 @@ typedef enum UvfStatus {
 } UvfStatus;
 
 /**
+ * A packed atlas: created by `uvf_atlas`, read with the `uvf_atlas_*` accessors, released with
+ * `uvf_atlas_free`.
+ */
+typedef struct UvfAtlas UvfAtlas;
+
+/**
  * A factored intrinsic map whose boundary can be moved (opaque; create with
  * `uvf_boundary_editor_new`, free with `uvf_boundary_editor_free`).
  */
 typedef struct UvfBoundaryEditor UvfBoundaryEditor;
 
 /**
+ * A chart layout of a PGP result (Ray et al. 2006, §3.3–3.4). Not implemented yet: no function
+ * creates one.
+ */
+typedef struct UvfChartLayout UvfChartLayout;
+
+/**
  * A mesh cut into a disk: created by `uvf_cut_to_disk`, read with the `uvf_cut_*` accessors,
  * released with `uvf_cut_free`.
  */
 typedef struct UvfCut UvfCut;
+
+/**
+ * A PGP result: created by `uvf_pgp`, read with the `uvf_pgp_*` accessors, released with
+ * `uvf_pgp_free`.
+ */
+typedef struct UvfPgp UvfPgp;
+
+/**
+ * A quad-dominant remesh of a PGP result (Ray et al. 2006, §5). Not implemented yet: no
+ * function creates one.
+ */
+typedef struct UvfQuadMesh UvfQuadMesh;
 
 /**
  * Progress callback: receives the caller's `user` pointer and the fraction done in [0, 1];
@@ -290,6 +415,86 @@ typedef struct UvfAbfReport {
    */
   uint64_t invalid_angles;
 } UvfAbfReport;
+
+/**
+ * Options of `uvf_atlas`. Initialise with `uvf_atlas_options_default`.
+ */
+typedef struct UvfAtlasOptions {
+  /**
+   * `sizeof(UvfAtlasOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * Largest L2 stretch of a chart, ≥ 1 (default 1.02); `INFINITY` splits only charts that
+   * flip or overlap.
+   */
+  double max_stretch;
+  /**
+   * Gap between charts in the unit square, in [0, 0.5) (default 0.005).
+   */
+  double margin;
+  /**
+   * One of `UVF_ATLAS_CHART_*` (default natural conformal).
+   */
+  uint32_t method;
+  /**
+   * Iterations of the non-linear chart methods (default 20).
+   */
+  uint32_t iterations;
+  /**
+   * Non-zero: the packer may rotate charts (default 1).
+   */
+  uint32_t rotate;
+  /**
+   * Non-zero: merge adjacent charts after splitting when still valid (default 1).
+   */
+  uint32_t merge;
+  /**
+   * L2-stretch minimization iterations per chart (default 10; 0: none): a chart slightly
+   * over `max_stretch` is polished before it is judged, and every accepted chart is polished
+   * before packing (kept only where it lowers the chart's stretch and stays valid).
+   */
+  uint32_t polish_iterations;
+  /**
+   * Optional progress callback (may be NULL), called between segmentation levels; returning
+   * non-zero cancels with `UVF_CANCELLED`.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfAtlasOptions;
+
+/**
+ * Sizes and figures of an atlas (see `uvf_atlas_info`).
+ */
+typedef struct UvfAtlasInfo {
+  /**
+   * Atlas (UV) vertices: one per chart vertex.
+   */
+  size_t vertex_count;
+  /**
+   * Triangles (the input's, same order).
+   */
+  size_t triangle_count;
+  /**
+   * Charts.
+   */
+  size_t chart_count;
+  /**
+   * Fraction of the unit square covered by charts.
+   */
+  double utilization;
+  /**
+   * L2 stretch of the whole atlas (Sander et al. 2001; 1 = isometric up to scale).
+   */
+  double stretch_l2;
+  /**
+   * Largest L2 stretch of one chart.
+   */
+  double max_chart_stretch;
+} UvfAtlasInfo;
 
 /**
  * Options of `uvf_cut_to_disk`. Initialise with `uvf_cut_options_default`.
@@ -443,6 +648,235 @@ typedef struct UvfPointConstraint {
    */
   double uv[2];
 } UvfPointConstraint;
+
+/**
+ * Options of `uvf_spectral_conformal_map`. Initialise with `uvf_spectral_options_default`.
+ */
+typedef struct UvfSpectralOptions {
+  /**
+   * `sizeof(UvfSpectralOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * Inverse-iteration limit (default 200; ≥ 1).
+   */
+  uint32_t iterations;
+  /**
+   * Stop when the eigenpair's normwise backward error is at most this (default 1e-12; > 0).
+   */
+  double tolerance;
+  /**
+   * Optional progress callback (may be NULL), called once per iteration.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfSpectralOptions;
+
+/**
+ * What `uvf_spectral_conformal_map` reports.
+ */
+typedef struct UvfSpectralReport {
+  /**
+   * Inverse iterations done.
+   */
+  uint32_t iterations;
+  /**
+   * 1 when the backward error reached the tolerance, 0 when the iteration limit stopped.
+   */
+  uint32_t converged;
+  /**
+   * The eigenvalue λ of `L_C z = λ B z` (the conformal energy of the boundary-normalized map).
+   */
+  double eigenvalue;
+  /**
+   * Normwise backward error `‖L_C z − λBz‖ / ((‖L_C‖∞ + |λ|)‖z‖)` of the eigenpair.
+   */
+  double residual;
+} UvfSpectralReport;
+
+/**
+ * Options of `uvf_intrinsic_optimal_map`. Initialise with
+ * `uvf_intrinsic_optimal_options_default`.
+ */
+typedef struct UvfIntrinsicOptimalOptions {
+  /**
+   * `sizeof(UvfIntrinsicOptimalOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * `UVF_ENERGY_EDGE_LENGTH` (default) or `UVF_ENERGY_AREA`.
+   */
+  uint32_t energy;
+  /**
+   * One of `UVF_BOUNDARY_*` (default circle); a circle or square is scaled so that the DCP
+   * map's UV area equals the surface area, given positions are used as given.
+   */
+  uint32_t boundary;
+  /**
+   * One of `UVF_DISTRIBUTION_*` (default chord length).
+   */
+  uint32_t distribution;
+  /**
+   * Smallest λ allowed (default -INFINITY).
+   */
+  double lambda_min;
+  /**
+   * Largest λ allowed (default +INFINITY).
+   */
+  double lambda_max;
+  /**
+   * Number of entries of `given_vertices` for `UVF_BOUNDARY_GIVEN`.
+   */
+  size_t given_count;
+  /**
+   * Boundary vertices whose UV is given; must cover whole boundary loops.
+   */
+  const uint32_t *given_vertices;
+  /**
+   * 2 doubles per given vertex.
+   */
+  const double *given_uv;
+  /**
+   * Optional progress callback (may be NULL).
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfIntrinsicOptimalOptions;
+
+/**
+ * What `uvf_intrinsic_optimal_map` reports.
+ */
+typedef struct UvfIntrinsicOptimalReport {
+  /**
+   * The minimizing λ of `λ·U^A + (1 − λ)·U^χ`.
+   */
+  double lambda;
+  /**
+   * The energy at λ.
+   */
+  double energy;
+  /**
+   * The energy of the DCP map (λ = 1).
+   */
+  double energy_conformal;
+  /**
+   * The energy of the DAP map (λ = 0).
+   */
+  double energy_authalic;
+  /**
+   * Factor applied to the circle or square boundary (1 for given positions).
+   */
+  double boundary_scale;
+  /**
+   * Clockwise or degenerate UV triangles of the result (λ outside [0, 1] can fold).
+   */
+  size_t flipped;
+} UvfIntrinsicOptimalReport;
+
+/**
+ * Options of `uvf_boundary_optimized_map`. Initialise with
+ * `uvf_boundary_optimization_options_default`.
+ */
+typedef struct UvfBoundaryOptimizationOptions {
+  /**
+   * `sizeof(UvfBoundaryOptimizationOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * `UVF_ENERGY_EDGE_LENGTH` (default) or `UVF_ENERGY_AREA`.
+   */
+  uint32_t energy;
+  /**
+   * Iteration limit (default 100).
+   */
+  uint32_t iterations;
+  /**
+   * λ of the intrinsic map λ·DCP + μ·DAP (default 1).
+   */
+  double lambda;
+  /**
+   * μ of the intrinsic map (default 0).
+   */
+  double mu;
+  /**
+   * Stop when an iteration lowers the energy by less than `tolerance × energy` (default
+   * 1e-6; ≥ 0).
+   */
+  double tolerance;
+  /**
+   * Starting boundary: one of `UVF_BOUNDARY_*` (default circle, scaled to the surface
+   * area); given positions must cover exactly the outer (longest) loop.
+   */
+  uint32_t boundary;
+  /**
+   * One of `UVF_DISTRIBUTION_*` (default chord length).
+   */
+  uint32_t distribution;
+  /**
+   * Number of entries of `given_vertices` for `UVF_BOUNDARY_GIVEN`.
+   */
+  size_t given_count;
+  /**
+   * Outer-loop vertices whose starting UV is given.
+   */
+  const uint32_t *given_vertices;
+  /**
+   * 2 doubles per given vertex.
+   */
+  const double *given_uv;
+  /**
+   * Optional progress callback (may be NULL), called once before each iteration; returning
+   * non-zero cancels before that iteration.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfBoundaryOptimizationOptions;
+
+/**
+ * What `uvf_boundary_optimized_map` reports.
+ */
+typedef struct UvfBoundaryOptimizationReport {
+  /**
+   * Accepted iterations.
+   */
+  uint32_t iterations;
+  /**
+   * 1 when the tolerance was met or no step could lower the energy; 0 when the iteration
+   * limit stopped the descent.
+   */
+  uint32_t converged;
+  /**
+   * Entries of the energy history (iterations + 1: the start, then each iteration), also
+   * when `history_capacity` was smaller.
+   */
+  size_t history_length;
+  /**
+   * Energy of the starting map.
+   */
+  double initial_energy;
+  /**
+   * Energy of the returned map (never above `initial_energy`).
+   */
+  double final_energy;
+  /**
+   * Factor applied to the circle or square start (1 for given positions).
+   */
+  double boundary_scale;
+  /**
+   * Triangles flipped or degenerate in the starting map; no iteration changes any
+   * triangle's orientation, so the result has the same ones (0 for a flip-free start).
+   */
+  size_t flipped;
+} UvfBoundaryOptimizationReport;
 
 /**
  * Counts and topological invariants of a mesh.
@@ -631,6 +1065,152 @@ typedef struct UvfNonlinearReport {
   double final_energy;
 } UvfNonlinearReport;
 
+/**
+ * Options of `uvf_curvature`. Initialise with `uvf_curvature_options_default`.
+ */
+typedef struct UvfCurvatureOptions {
+  /**
+   * `sizeof(UvfCurvatureOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * `UVF_CURVATURE_RINGS` (default) or `UVF_CURVATURE_RADIUS`.
+   */
+  uint32_t neighbourhood;
+  /**
+   * Rings for `UVF_CURVATURE_RINGS` (default 2; ≥ 1).
+   */
+  uint32_t rings;
+  /**
+   * Radius for `UVF_CURVATURE_RADIUS` (finite, > 0; default 0 = unset).
+   */
+  double radius;
+} UvfCurvatureOptions;
+
+/**
+ * Options of `uvf_pgp`. Initialise with `uvf_pgp_options_default`.
+ */
+typedef struct UvfPgpOptions {
+  /**
+   * `sizeof(UvfPgpOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * ω: θ grows by ω per unit length along the field, so one chart (a 2π period) is 2π/ω
+   * long. 0 (default) = 2π / (10 × mean edge length), Ray et al.'s "ten times the average
+   * edge length" read as ten edges per period.
+   */
+  double omega;
+  /**
+   * Optional field K, 3 doubles per vertex (projected on the tangent plane; its direction
+   * is used). NULL (default) = the maximum principal curvature direction.
+   */
+  const double *field;
+  /**
+   * `UVF_SMOOTH_NONE`, `UVF_SMOOTH_2PI`, `UVF_SMOOTH_PI` or `UVF_SMOOTH_HALF_PI` (default).
+   */
+  uint32_t smoothing;
+  /**
+   * Non-zero: curl correction (§4.1; fewer singularities, conformal rather than isometric).
+   * Default 0.
+   */
+  uint32_t curl_correction;
+  /**
+   * Smoothing intensity ρ in [0, 1) (default 0.8).
+   */
+  double rho;
+  /**
+   * ε of the smoothing's unit-norm penalty (default 0.1).
+   */
+  double smoothing_epsilon;
+  /**
+   * ε of the unit-norm penalty (default 1e-3; 0 = linear solve only).
+   */
+  double epsilon;
+  /**
+   * Newton stops when ‖∇F**‖ is below this (default 1e-6).
+   */
+  double gradient_tolerance;
+  /**
+   * Newton iteration limit (default 30).
+   */
+  uint32_t max_newton_iterations;
+  /**
+   * Curvature neighbourhood, as in `UvfCurvatureOptions` (default `UVF_CURVATURE_RINGS`).
+   */
+  uint32_t curvature_neighbourhood;
+  /**
+   * Rings (default 2).
+   */
+  uint32_t curvature_rings;
+  /**
+   * Radius for `UVF_CURVATURE_RADIUS`.
+   */
+  double curvature_radius;
+  /**
+   * Optional progress callback (may be NULL); returning non-zero cancels.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfPgpOptions;
+
+/**
+ * Summary of a PGP result (see `uvf_pgp_info`).
+ */
+typedef struct UvfPgpInfo {
+  /**
+   * The ω used.
+   */
+  double omega;
+  /**
+   * Singular vertices (§3.2: corner angles not summing to 2π).
+   */
+  size_t singular_vertex_count;
+  /**
+   * Singular edges (transition functions disagreeing at the two endpoints).
+   */
+  size_t singular_edge_count;
+  /**
+   * Singular triangles (open path of Algorithm 1, or non-positive (θ, φ) area).
+   */
+  size_t singular_triangle_count;
+  /**
+   * Vertices with a non-zero index.
+   */
+  size_t singular_point_count;
+  /**
+   * Σ of the indices (2 − 2g on a closed surface of genus g).
+   */
+  double index_sum;
+  /**
+   * Newton iterations of the periodic solve.
+   */
+  uint32_t newton_iterations;
+  /**
+   * 1 when ‖∇F**‖ reached the tolerance.
+   */
+  uint32_t converged;
+  /**
+   * ‖∇F**‖ at the end.
+   */
+  double final_gradient;
+  /**
+   * L2 stretch of (θ, φ)/ω over the non-singular triangles (1 = isometric up to scale).
+   */
+  double stretch;
+  /**
+   * Mean |cos| of the angle between the parameter directions (0 = orthogonal iso-lines).
+   */
+  double shear;
+  /**
+   * Mean angle in degrees between the gradients of θ, φ and the field.
+   */
+  double alignment_degrees;
+} UvfPgpInfo;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -670,6 +1250,109 @@ enum UvfStatus uvf_abf(const double *positions,
                        const struct UvfAbfOptions *options,
                        double *uv_out,
                        struct UvfAbfReport *report_out);
+
+/**
+ * Fills `options` with defaults.
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_atlas_options_default(struct UvfAtlasOptions *options);
+
+/**
+ * Atlas of any manifold mesh (closed or with boundaries, any genus, any number of components;
+ * course notes §6.2): top-down segmentation — every component starts as one chart, cut into a
+ * disk if needed, flattened by the chosen method, and split in two (two-proxy VSA on normals,
+ * Cohen-Steiner et al. 2004) while it flips, overlaps itself or exceeds `max_stretch` — then
+ * greedy merging of adjacent charts that stay valid, then skyline packing of the charts'
+ * minimum-area rectangles into the unit square with `margin` between charts.
+ *
+ * Every chart of the result has no flipped or degenerate UV triangle, no crossing boundary
+ * edges and L2 stretch ≤ `max_stretch`; charts do not overlap; all UVs are in [0, 1]². On
+ * success `*atlas_out` receives a handle to free with `uvf_atlas_free`. `options` and
+ * `progress` may be NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointer, bad option),
+ * `UVF_INVALID_MESH`, `UVF_NUMERICAL_FAILURE` (a triangle too degenerate to flatten alone),
+ * `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure `*atlas_out` is untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `atlas_out` must be writable.
+ */
+enum UvfStatus uvf_atlas(const double *positions,
+                         size_t vertex_count,
+                         const uint32_t *triangles,
+                         size_t triangle_count,
+                         const struct UvfAtlasOptions *options,
+                         struct UvfAtlas **atlas_out);
+
+/**
+ * Sizes and figures of an atlas. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
+ *
+ * # Safety
+ * `atlas` must be a live handle or NULL; `info_out` writable.
+ */
+enum UvfStatus uvf_atlas_info(const struct UvfAtlas *atlas, struct UvfAtlasInfo *info_out);
+
+/**
+ * UV of every atlas vertex: `2 × vertex_count` doubles in [0, 1] written to `uv_out` (capacity
+ * in doubles). Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL, capacity too small; output
+ * untouched).
+ *
+ * # Safety
+ * `atlas` must be a live handle or NULL; `uv_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_atlas_copy_uv(const struct UvfAtlas *atlas, double *uv_out, size_t capacity);
+
+/**
+ * Per-corner UV indices: `3 × triangle_count` atlas-vertex indices (corner k of input triangle
+ * t at `3t + k`). Statuses as `uvf_atlas_copy_uv`.
+ *
+ * # Safety
+ * `atlas` must be a live handle or NULL; `triangles_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_atlas_copy_triangles(const struct UvfAtlas *atlas,
+                                        uint32_t *triangles_out,
+                                        size_t capacity);
+
+/**
+ * Per-corner UVs: `6 × triangle_count` doubles (u, v of corner k of triangle t at
+ * `6t + 2k`). Statuses as `uvf_atlas_copy_uv`.
+ *
+ * # Safety
+ * `atlas` must be a live handle or NULL; `corner_uv_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_atlas_copy_corner_uv(const struct UvfAtlas *atlas,
+                                        double *corner_uv_out,
+                                        size_t capacity);
+
+/**
+ * Chart id of every input triangle: `triangle_count` entries in `[0, chart_count)`. Statuses
+ * as `uvf_atlas_copy_uv`.
+ *
+ * # Safety
+ * `atlas` must be a live handle or NULL; `charts_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_atlas_copy_charts(const struct UvfAtlas *atlas,
+                                     uint32_t *charts_out,
+                                     size_t capacity);
+
+/**
+ * The input vertex of every atlas vertex: `vertex_count` entries. Statuses as
+ * `uvf_atlas_copy_uv`.
+ *
+ * # Safety
+ * `atlas` must be a live handle or NULL; `original_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_atlas_copy_original_vertices(const struct UvfAtlas *atlas,
+                                                uint32_t *original_out,
+                                                size_t capacity);
+
+/**
+ * Releases an atlas handle (NULL is ignored).
+ *
+ * # Safety
+ * `atlas` must come from `uvf_atlas` and not have been freed.
+ */
+void uvf_atlas_free(struct UvfAtlas *atlas);
 
 /**
  * Fills `options` with defaults (curvature-weighted edge length).
@@ -962,46 +1645,107 @@ enum UvfStatus uvf_boundary_editor_basis(const struct UvfBoundaryEditor *editor,
                                          double *basis_out);
 
 /**
- * Spectral conformal map (Mullen, Tong, Alliez, Desbrun 2008). Not implemented yet: always
- * returns `UVF_NOT_IMPLEMENTED` (or `UVF_INVALID_ARGUMENT` for NULL mesh arrays).
+ * Fills `options` with defaults (200 iterations, tolerance 1e-12, no callback).
  *
  * # Safety
- * The arrays must hold the stated number of elements.
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_spectral_options_default(struct UvfSpectralOptions *options);
+
+/**
+ * Spectral conformal map (Mullen, Tong, Alliez, Desbrun 2008): the free-boundary conformal map
+ * without pinned vertices, the generalized eigenvector of `L_C z = λ B z` (L_C the conformal
+ * energy, B 1 on boundary vertices) with the smallest non-trivial eigenvalue, by inverse
+ * iteration on one sparse factorization. The result is scaled to the surface area with the
+ * two boundary vertices farthest apart at (0, 0) and on the +u axis; it is invariant (up to
+ * that placement) to rigid motions and scaling of the input, and a developable mesh gets its
+ * exact development.
+ *
+ * `uv_out` receives 2 doubles per vertex (NaN for unreferenced ones); `options` and
+ * `report_out` may be NULL. A run that reaches the iteration limit without the tolerance
+ * still returns `UVF_OK` with `report_out->converged = 0`. Returns `UVF_OK`,
+ * `UVF_INVALID_ARGUMENT` (bad pointer or option), `UVF_INVALID_MESH`,
+ * `UVF_UNSUPPORTED_TOPOLOGY` (not a connected genus-0 mesh with a boundary),
+ * `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
+ * untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
  */
 enum UvfStatus uvf_spectral_conformal_map(const double *positions,
                                           size_t vertex_count,
                                           const uint32_t *triangles,
                                           size_t triangle_count,
-                                          double *uv_out);
+                                          const struct UvfSpectralOptions *options,
+                                          double *uv_out,
+                                          struct UvfSpectralReport *report_out);
 
 /**
- * Near-optimal intrinsic map (Desbrun et al. 2002 §5.1). Not implemented yet: always returns
- * `UVF_NOT_IMPLEMENTED`.
+ * Fills `options` with defaults (edge-length energy, circle, chord length, λ unbounded).
  *
  * # Safety
- * Never reads its arguments.
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_intrinsic_optimal_options_default(struct UvfIntrinsicOptimalOptions *options);
+
+/**
+ * Near-optimal intrinsic map (Desbrun et al. 2002 §5.1, eq. 8): the map
+ * `λ·U^A + (1 − λ)·U^χ` (U^A the DCP map, U^χ the DAP map, same boundary) minimizing the
+ * chosen distortion energy over λ in [`lambda_min`, `lambda_max`]. The energy is an exact
+ * polynomial in λ (degree 4 for edge lengths, 8 for areas); its minimum is found by root
+ * finding on the derivative and compared with the range's ends and with λ = 0 and λ = 1, so
+ * the result is never worse than pure DCP or pure DAP when they are in the range.
+ *
+ * `uv_out` receives 2 doubles per vertex; `options` and `report_out` may be NULL. Returns
+ * `UVF_OK`, `UVF_INVALID_ARGUMENT` (bad pointer, unknown energy/boundary/distribution, empty
+ * or NaN λ range, bad given boundary), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`,
+ * `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
+ * untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
  */
 enum UvfStatus uvf_intrinsic_optimal_map(const double *positions,
                                          size_t vertex_count,
                                          const uint32_t *triangles,
                                          size_t triangle_count,
-                                         uint32_t energy,
-                                         double *lambda_out,
-                                         double *uv_out);
+                                         const struct UvfIntrinsicOptimalOptions *options,
+                                         double *uv_out,
+                                         struct UvfIntrinsicOptimalReport *report_out);
 
 /**
- * Boundary-optimized intrinsic map (Desbrun et al. 2002 §5.2). Not implemented yet: always
- * returns `UVF_NOT_IMPLEMENTED`.
+ * Fills `options` with defaults (edge-length energy, DCP, circle, 100 iterations).
  *
  * # Safety
- * Never reads its arguments.
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_boundary_optimization_options_default(struct UvfBoundaryOptimizationOptions *options);
+
+/**
+ * Boundary-optimized intrinsic map (Desbrun et al. 2002 §5.2): the map λ·DCP + μ·DAP whose
+ * outer boundary minimizes the chosen distortion energy, by descent on the boundary positions
+ * (gradient through the impulse responses of the factored map, L-BFGS directions, exact line
+ * search on the energy polynomial, steps that never flip or degenerate a triangle).
+ *
+ * `uv_out` receives 2 doubles per vertex. `history_out` receives the first
+ * `min(history_capacity, history_length)` energies (start first; may be NULL when
+ * `history_capacity` is 0); `report_out->history_length` says how many there were. `options`
+ * and `report_out` may be NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`,
+ * `UVF_UNSUPPORTED_TOPOLOGY`, `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED` (the callback stops the
+ * run before its next iteration), `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
  */
 enum UvfStatus uvf_boundary_optimized_map(const double *positions,
                                           size_t vertex_count,
                                           const uint32_t *triangles,
                                           size_t triangle_count,
-                                          uint32_t energy,
-                                          double *uv_out);
+                                          const struct UvfBoundaryOptimizationOptions *options,
+                                          double *uv_out,
+                                          double *history_out,
+                                          size_t history_capacity,
+                                          struct UvfBoundaryOptimizationReport *report_out);
 
 /**
  * Validates a mesh and reports its topology.
@@ -1177,6 +1921,170 @@ enum UvfStatus uvf_nonlinear_map(const double *positions,
                                  const struct UvfNonlinearOptions *options,
                                  double *uv_out,
                                  struct UvfNonlinearReport *report_out);
+
+/**
+ * Fills `options` with defaults (two rings).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_curvature_options_default(struct UvfCurvatureOptions *options);
+
+/**
+ * Principal curvatures per vertex by the normal-cycle tensor of Cohen-Steiner & Morvan 2003
+ * (the input field of Ray et al. 2006, §4.2), averaged over a neighbourhood of each vertex.
+ *
+ * Outputs (each may be NULL to skip it): `kmin_direction_out` and `kmax_direction_out`, 3
+ * doubles per vertex (unit tangent directions, kmax = normal × kmin); `kmin_out` and
+ * `kmax_out`, 1 double per vertex (signed curvatures, kmin ≤ kmax; a sphere with outward
+ * normals has 1/r). Unreferenced vertices get zeros. `options` may be NULL. Returns `UVF_OK`,
+ * `UVF_INVALID_ARGUMENT` (bad neighbourhood, bad pointers), `UVF_INVALID_MESH`,
+ * `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements or be NULL.
+ */
+enum UvfStatus uvf_curvature(const double *positions,
+                             size_t vertex_count,
+                             const uint32_t *triangles,
+                             size_t triangle_count,
+                             const struct UvfCurvatureOptions *options,
+                             double *kmin_direction_out,
+                             double *kmax_direction_out,
+                             double *kmin_out,
+                             double *kmax_out);
+
+/**
+ * Fills `options` with defaults.
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_pgp_options_default(struct UvfPgpOptions *options);
+
+/**
+ * Periodic Global Parameterization (Ray, Li, Lévy, Sheffer, Alliez 2006) of a manifold mesh of
+ * any genus, with or without boundary, without cutting it: principal curvature field
+ * (Cohen-Steiner–Morvan), optional smoothing (§4.2, eqs. 21–22) and curl correction (§4.1,
+ * eqs. 17–20), the periodic solve of (cos θ, sin θ, cos φ, sin φ) per vertex (§2.3–2.5,
+ * eqs. 13–15, 24: linear solve with one vertex locked per component, then Newton on F**), and
+ * the per-triangle parameterization of §3.1 (Algorithm 1).
+ *
+ * `corner_coords_out` receives (θ, φ) for every corner: 6 doubles per triangle, corner k of
+ * triangle t at `6t + 2k`. θ and φ are in radians with period 2π (use θ/2π, φ/2π as texture
+ * coordinates of a periodic texture). If `result_out` is not NULL it receives a handle with
+ * the singular vertices, edges, triangles and indices (§3.2) and quality figures; free it
+ * with `uvf_pgp_free`. `options` may be NULL for defaults.
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (bad options, a field vector that is not finite or
+ * normal to the surface — the message names the vertex), `UVF_INVALID_MESH`,
+ * `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
+ * untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `result_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_pgp(const double *positions,
+                       size_t vertex_count,
+                       const uint32_t *triangles,
+                       size_t triangle_count,
+                       const struct UvfPgpOptions *options,
+                       double *corner_coords_out,
+                       struct UvfPgp **result_out);
+
+/**
+ * Counts and quality figures of a PGP result. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `info_out` writable.
+ */
+enum UvfStatus uvf_pgp_info(const struct UvfPgp *pgp, struct UvfPgpInfo *info_out);
+
+/**
+ * The singular vertices (`singular_vertex_count` indices, ascending). Returns `UVF_OK` or
+ * `UVF_INVALID_ARGUMENT` (NULL, capacity too small; output untouched).
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `vertices_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_pgp_copy_singular_vertices(const struct UvfPgp *pgp,
+                                              uint32_t *vertices_out,
+                                              size_t capacity);
+
+/**
+ * The singular edges as vertex pairs a < b (`2 × singular_edge_count` entries, sorted).
+ * Statuses as `uvf_pgp_copy_singular_vertices`.
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `edges_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_pgp_copy_singular_edges(const struct UvfPgp *pgp,
+                                           uint32_t *edges_out,
+                                           size_t capacity);
+
+/**
+ * The singular triangles (`singular_triangle_count` indices, ascending). Statuses as
+ * `uvf_pgp_copy_singular_vertices`.
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `triangles_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_pgp_copy_singular_triangles(const struct UvfPgp *pgp,
+                                               uint32_t *triangles_out,
+                                               size_t capacity);
+
+/**
+ * The singular points: `singular_point_count` vertices with a non-zero index of the gradient
+ * cross field (multiples of 1/4, summing to 2 − 2g on a closed surface), in `vertices_out` and
+ * `indices_out` (each of `capacity` elements). Statuses as `uvf_pgp_copy_singular_vertices`.
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; both arrays must hold `capacity` elements.
+ */
+enum UvfStatus uvf_pgp_copy_singular_points(const struct UvfPgp *pgp,
+                                            uint32_t *vertices_out,
+                                            double *indices_out,
+                                            size_t capacity);
+
+/**
+ * The field K the periodic solve followed (after smoothing, scaled by the curl correction
+ * when enabled): 3 doubles per vertex (`vertex_count` triples). Statuses as
+ * `uvf_pgp_copy_singular_vertices`.
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `field_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_pgp_copy_field(const struct UvfPgp *pgp, double *field_out, size_t capacity);
+
+/**
+ * Releases a PGP handle (NULL is ignored).
+ *
+ * # Safety
+ * `pgp` must come from `uvf_pgp` and not have been freed.
+ */
+void uvf_pgp_free(struct UvfPgp *pgp);
+
+/**
+ * Quad-dominant remesh (§5: iso-lines of θ and φ at `density` lines per period, non-quads
+ * split). Not implemented yet: returns `UVF_NOT_IMPLEMENTED` (or `UVF_INVALID_ARGUMENT` for a
+ * NULL handle or output) and leaves `*mesh_out` untouched.
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `mesh_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_pgp_quad_mesh(const struct UvfPgp *pgp,
+                                 double density,
+                                 struct UvfQuadMesh **mesh_out);
+
+/**
+ * Chart layout (§3.3 Algorithm 2: chart boundaries along the iso-2kπ lines; §3.4: singular
+ * charts re-parameterized). Not implemented yet: returns `UVF_NOT_IMPLEMENTED` (or
+ * `UVF_INVALID_ARGUMENT` for a NULL handle or output) and leaves `*layout_out` untouched.
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `layout_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_pgp_chart_layout(const struct UvfPgp *pgp, struct UvfChartLayout **layout_out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -11,6 +11,7 @@
 //! - [`mesh`]: [`TriMesh`], the validated mesh (connectivity, boundary loops, topology).
 //! - [`geometry`]: per-triangle areas, angles and cotangents.
 //! - [`linalg`]: sparse assembly and factorizations (faer Cholesky / LU).
+//! - [`atlas`]: atlas mode: charts under a stretch bound, flattened and packed.
 //! - [`boundary`]: boundary shapes and distributions for fixed-boundary maps.
 //! - [`methods`]: the parameterization methods.
 //! - [`metrics`]: distortion measures.
@@ -28,6 +29,7 @@
 //! assert_eq!(uv.len(), 4);
 //! ```
 
+pub mod atlas;
 pub mod boundary;
 pub mod capi;
 pub mod error;

@@ -257,10 +257,36 @@ fn unwrap_cuts_closed_meshes_and_writes_per_corner_uvs() {
     // Without a cut the disk methods refuse the torus.
     let o = uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--cut", "none"]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    // Atlas mode is not implemented and says so.
-    let o = uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--atlas"]);
+    // Atlas mode: charts under the stretch bound, packed into the unit square, no flips.
+    let report = json(&uvflat(&[
+        "unwrap",
+        &input,
+        "-o",
+        out.to_str().unwrap(),
+        "--atlas",
+        "--max-stretch",
+        "1.05",
+        "--margin",
+        "0.01",
+        "--json",
+    ]));
+    assert_eq!(report["flipped"], 0, "{report}");
+    assert_eq!(report["boundary_intersections"], 0, "{report}");
+    assert!(report["charts"].as_u64().is_some_and(|c| c >= 1), "{report}");
+    assert!(report["stretch_l2"].as_f64().is_some_and(|s| s <= 1.05), "{report}");
+    assert!(report["utilization"].as_f64().is_some_and(|u| u > 0.1 && u < 1.0), "{report}");
+    let measured = json(&uvflat(&["metrics", out.to_str().unwrap(), "--json"]));
+    assert_eq!(measured["flipped"], 0);
+    let o = uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--atlas", "--max-stretch", "0.5"]);
     assert_eq!(o.status.code(), Some(1));
-    assert!(stderr(&o).contains("not implemented"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("max_stretch"), "{}", stderr(&o));
+    let o = uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--atlas", "--method", "tutte"]);
+    assert_eq!(o.status.code(), Some(2));
+    // The default method on a cut mesh is flip-free (split into charts only when needed).
+    let report =
+        json(&uvflat(&["unwrap", &format!("{MESHES}/closed_g0_cow.obj"), "-o", out.to_str().unwrap(), "--json"]));
+    assert_eq!(report["flipped"], 0, "{report}");
+    assert_eq!(report["mode"], "cut", "{report}");
 }
 
 #[test]
@@ -281,4 +307,22 @@ fn sphere_writes_unit_sphere_vertices_without_flips() {
     let o = uvflat(&["sphere", &format!("{MESHES}/closed_g1_torus.obj"), "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("genus"), "{}", stderr(&o));
+}
+
+/// `uvflat methods | head -0`: stdout closed before anything is written. The tool must exit
+/// like a C tool on SIGPIPE (status 141), without a panic message.
+#[test]
+fn a_closed_stdout_is_not_a_panic() {
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_uvflat"))
+        .arg("methods")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run uvflat");
+    drop(child.stdout.take());
+    let output = child.wait_with_output().expect("wait for uvflat");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(output.status.code(), Some(141), "{stderr}");
 }

@@ -8,14 +8,24 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use uvflat::atlas::{atlas, cut_and_flatten, Atlas, AtlasOptions, ChartMethod};
 use uvflat::io::obj::{read_obj, write_obj_with_corner_uv, write_obj_with_uv, ObjMesh};
+use uvflat::io::surface_svg::{write_periodic_svg, PeriodicPicture};
 use uvflat::io::svg::write_uv_svg;
 use uvflat::mesh::cut::{cut_to_disk, total_edge_length, EdgeCost};
 use uvflat::methods::abf::{abf, AbfOptions, AbfVariant};
+use uvflat::methods::boundary_optimization::{boundary_optimized_map, BoundaryOptimizationOptions};
 use uvflat::methods::conformal::Pin;
+use uvflat::methods::length_area_distortion::DistortionEnergy;
+use uvflat::methods::near_optimal::{near_optimal_map, NearOptimalOptions};
 use uvflat::methods::nonlinear::{nonlinear_map, NonlinearMethod, NonlinearOptions};
+use uvflat::methods::pgp::quality::quality;
+use uvflat::methods::pgp::smoothing::{SmoothingOptions, Symmetry};
+use uvflat::methods::pgp::{pgp, PgpOptions};
+use uvflat::methods::spectral_conformal::{spectral_conformal_map, SpectralOptions};
 use uvflat::methods::sphere::{spherical_map, SphereMethod, SphereOptions};
 use uvflat::metrics::{distortion, Metrics};
+use uvflat::progress::Progress;
 use uvflat::{
     fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, Error, FixedBoundaryOptions, TriMesh,
     Weights,
@@ -51,6 +61,54 @@ enum Command {
     /// Maps a closed genus-0 mesh onto the unit sphere and writes OUT.obj with the sphere
     /// positions as vertices (same faces).
     Sphere(SphereArgs),
+    /// Periodic Global Parameterization (Ray et al. 2006) of a mesh of any genus, without
+    /// cutting: writes OUT.obj with per-corner `vt` = (θ, φ)/2π, so a tiling texture repeats
+    /// once per period along the principal curvature directions.
+    Pgp(PgpArgs),
+}
+
+#[derive(clap::Args)]
+struct PgpArgs {
+    /// Input mesh (OBJ).
+    input: PathBuf,
+    /// Output OBJ with per-corner texture coordinates (θ/2π, φ/2π).
+    #[arg(short = 'o', long = "output")]
+    output: PathBuf,
+    /// ω (θ grows by ω per unit length; a period is 2π/ω long). Default: 2π / (10 × mean edge
+    /// length).
+    #[arg(long)]
+    omega: Option<f64>,
+    /// Rescale the field to reduce its curl (§4.1): fewer singularities, conformal instead of
+    /// isometric.
+    #[arg(long = "curl-correction")]
+    curl_correction: bool,
+    /// Field smoothing (§4.2): directions equal modulo 2pi, pi or pi/2, or none.
+    #[arg(long, value_enum, default_value_t = SmoothName::HalfPi)]
+    smooth: SmoothName,
+    /// Quad-dominant remesh output (§5; not implemented yet).
+    #[arg(long = "quad-mesh")]
+    quad_mesh: Option<PathBuf>,
+    /// Draw the iso-kπ lines and singularities on the surface into this SVG file.
+    #[arg(long)]
+    svg: Option<PathBuf>,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum SmoothName {
+    /// No smoothing: the raw principal directions.
+    None,
+    /// Modulo 2π (poles).
+    #[value(name = "2pi")]
+    TwoPi,
+    /// Modulo π (half-poles).
+    #[value(name = "pi")]
+    Pi,
+    /// Modulo π/2 (quarter-poles; the default).
+    #[value(name = "pi/2")]
+    HalfPi,
 }
 
 #[derive(clap::Args)]
@@ -96,9 +154,9 @@ struct UnwrapArgs {
     /// Output OBJ with one UV per vertex.
     #[arg(short = 'o', long = "output")]
     output: PathBuf,
-    /// Parameterization method (see `uvflat methods`).
-    #[arg(long, value_enum, default_value_t = MethodName::NaturalConformal)]
-    method: MethodName,
+    /// Parameterization method (see `uvflat methods`); default natural-conformal.
+    #[arg(long, value_enum)]
+    method: Option<MethodName>,
     /// Boundary of fixed-boundary methods: `circle`, `square`, or a file of lines
     /// `vertex_index u v` (0-based) fixing those boundary vertices.
     #[arg(long)]
@@ -122,6 +180,10 @@ struct UnwrapArgs {
     /// θ of the degener method (weight of area against angle distortion); default 3.
     #[arg(long)]
     theta: Option<f64>,
+    /// Distortion energy of intrinsic-optimal and boundary-optimized (Desbrun et al. 2002
+    /// §5.1); default edge.
+    #[arg(long, value_enum)]
+    energy: Option<EnergyName>,
     /// Also draw the UV layout into this SVG file.
     #[arg(long)]
     svg: Option<PathBuf>,
@@ -132,15 +194,22 @@ struct UnwrapArgs {
     /// handles) or `none`. UVs are then per corner (`vt` indices differ from `v` indices).
     #[arg(long, value_enum)]
     cut: Option<CutMode>,
-    /// Atlas mode: charts under a stretch bound, packed into the unit square (not implemented).
+    /// Atlas mode: split into charts under a stretch bound, flatten each (natural-conformal by
+    /// default; also mean-value, slim, stretch), pack them into the unit square.
     #[arg(long)]
     atlas: bool,
-    /// Atlas mode: largest L2 stretch per chart.
+    /// Atlas mode: largest L2 stretch per chart (default 1.02).
     #[arg(long = "max-stretch")]
     max_stretch: Option<f64>,
-    /// Atlas mode: margin between packed charts.
+    /// Atlas mode (and split cuts): gap between packed charts in the unit square (default 0.005).
     #[arg(long)]
     margin: Option<f64>,
+    /// Atlas mode: do not rotate charts when packing.
+    #[arg(long = "no-rotate")]
+    no_rotate: bool,
+    /// Atlas mode: L2-stretch minimization iterations per chart (default 10; 0: none).
+    #[arg(long)]
+    polish: Option<usize>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -161,6 +230,17 @@ enum MethodName {
     Abf,
     #[value(name = "abf++")]
     AbfPlusPlus,
+    SpectralConformal,
+    IntrinsicOptimal,
+    BoundaryOptimized,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum EnergyName {
+    /// Edge-length distortion Σ (|u_i − u_j|²/|x_i − x_j|² − 1)².
+    Edge,
+    /// Area distortion Σ ((A_uv/A_3D)² − 1)².
+    Area,
 }
 
 impl MethodName {
@@ -179,7 +259,7 @@ impl MethodName {
 }
 
 /// Each method's CLI name and one-line description, as `uvflat methods` prints them.
-const METHODS: [(MethodName, &str, &str); 15] = [
+const METHODS: [(MethodName, &str, &str); 18] = [
     (MethodName::Tutte, "tutte", "fixed boundary, uniform weights (Tutte 1963); never flips with a convex boundary"),
     (MethodName::Floater, "floater", "fixed boundary, Floater's shape-preserving weights (1997); never flips"),
     (MethodName::Authalic, "authalic", "fixed boundary, discrete authalic = Wachspress (Desbrun et al. 2002 eq. 6)"),
@@ -203,6 +283,21 @@ const METHODS: [(MethodName, &str, &str); 15] = [
     (MethodName::Degener, "degener", "free boundary, Degener et al. 2003 angle x area^theta energy; never flips"),
     (MethodName::Abf, "abf", "free boundary, angle based flattening, full Newton (Sheffer & de Sturler 2001)"),
     (MethodName::AbfPlusPlus, "abf++", "free boundary, ABF++ Gauss-Newton + LSCM reconstruction (Sheffer et al. 2005)"),
+    (
+        MethodName::SpectralConformal,
+        "spectral-conformal",
+        "free boundary, conformal without pins: smallest generalized eigenvector (Mullen et al. 2008)",
+    ),
+    (
+        MethodName::IntrinsicOptimal,
+        "intrinsic-optimal",
+        "fixed boundary, lambda*DCP map + (1-lambda)*DAP map of least --energy (Desbrun et al. 2002 §5.1)",
+    ),
+    (
+        MethodName::BoundaryOptimized,
+        "boundary-optimized",
+        "intrinsic map whose boundary descends --energy, never flipping (Desbrun et al. 2002 §5.2)",
+    ),
 ];
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -228,7 +323,22 @@ fn usage(message: impl Into<String>) -> Failure {
     Failure { message: message.into(), usage: true }
 }
 
+/// `uvflat ... | head` closes stdout early; `println!` then panics with "failed printing to
+/// stdout: Broken pipe". Like a C tool killed by SIGPIPE, exit quietly with status 141
+/// (128 + SIGPIPE) instead of printing a panic.
+fn exit_quietly_on_broken_pipe() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let message = info.payload().downcast_ref::<String>().map_or("", String::as_str);
+        if message.contains("Broken pipe") {
+            std::process::exit(141);
+        }
+        default(info);
+    }));
+}
+
 fn main() -> ExitCode {
+    exit_quietly_on_broken_pipe();
     let cli = Cli::parse();
     let outcome = match cli.command {
         Command::Unwrap(args) => unwrap(&args),
@@ -239,6 +349,7 @@ fn main() -> ExitCode {
         }
         Command::Info { input, json } => info(&input, json),
         Command::Sphere(args) => sphere(&args),
+        Command::Pgp(args) => periodic(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -269,10 +380,10 @@ fn load_mesh(path: &Path) -> Result<(ObjMesh, TriMesh), Failure> {
 fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
     check_option_combination(args)?;
     if args.atlas {
-        return Err(Error::NotImplemented("atlas mode (--atlas): chart segmentation and packing").into());
+        return unwrap_atlas(args);
     }
-    if args.max_stretch.is_some() || args.margin.is_some() {
-        return Err(usage("--max-stretch and --margin apply to --atlas only"));
+    if args.max_stretch.is_some() || args.no_rotate || args.polish.is_some() {
+        return Err(usage("--max-stretch, --no-rotate and --polish apply to --atlas only"));
     }
     let obj = read_obj(&args.input)?;
     let start = Instant::now();
@@ -291,8 +402,17 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
             Some(cut_to_disk(&mesh, &EdgeCost::default())?)
         }
     };
+    if args.margin.is_some() && (cut.is_none() || args.method.is_some()) {
+        return Err(usage("--margin applies to --atlas and to --cut auto with the default method only"));
+    }
+    if let (Some(_), None) = (&cut, args.method) {
+        // The default method on a cut mesh: flip-free and overlap-free, split where needed.
+        let (atlas, split) = cut_and_flatten(&mesh, args.margin.unwrap_or(AtlasOptions::default().margin))?;
+        let seconds = start.elapsed().as_secs_f64();
+        return report_atlas(args, &obj, &mesh, &atlas, seconds, Some(split));
+    }
     let work = cut.as_ref().map_or(&mesh, |c| &c.mesh);
-    let uv = run_method(work, args)?;
+    let (uv, extra) = run_method(work, args)?;
     let seconds = start.elapsed().as_secs_f64();
     let uv_triangles: Vec<[u32; 3]> = work.triangles().to_vec();
     match &cut {
@@ -308,7 +428,7 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
     let metrics = distortion(mesh.points(), mesh.triangles(), &uv, &uv_triangles)?;
     if args.json {
         let mut object = serde_json::json!({
-            "method": method_label(args.method),
+            "method": method_label(args.method()),
             "seconds": seconds,
             "vertices": mesh.vertex_count(),
             "output": args.output.display().to_string(),
@@ -326,11 +446,12 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
             );
         }
         merge(&mut object, metrics.to_json());
+        merge(&mut object, extra);
         println!("{object}");
     } else {
         println!(
             "{}: {} vertices, {} triangles, {:.3} s -> {}",
-            method_label(args.method),
+            method_label(args.method()),
             mesh.vertex_count(),
             mesh.triangle_count(),
             seconds,
@@ -343,6 +464,125 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
         print_metrics_text(&metrics);
     }
     Ok(())
+}
+
+impl UnwrapArgs {
+    /// The chosen method (natural-conformal when none is given).
+    fn method(&self) -> MethodName {
+        self.method.unwrap_or(MethodName::NaturalConformal)
+    }
+}
+
+/// `--atlas`: charts under the stretch bound, packed into the unit square.
+fn unwrap_atlas(args: &UnwrapArgs) -> Result<(), Failure> {
+    if args.cut == Some(CutMode::None) {
+        return Err(usage("--atlas cuts the mesh into charts; it cannot be combined with --cut none"));
+    }
+    if args.boundary.is_some() || args.distribution.is_some() || !args.pins.is_empty() || args.lambda.is_some() {
+        return Err(usage("--boundary, --distribution, --pin, --lambda and --mu do not apply to --atlas"));
+    }
+    let method = match args.method() {
+        MethodName::NaturalConformal => ChartMethod::NaturalConformal,
+        MethodName::MeanValue => ChartMethod::MeanValue,
+        MethodName::Slim => ChartMethod::Slim,
+        MethodName::Stretch => ChartMethod::Stretch,
+        other => {
+            return Err(usage(format!(
+                "--atlas flattens charts with natural-conformal, mean-value, slim or stretch, not {}",
+                method_label(other)
+            )))
+        }
+    };
+    let defaults = AtlasOptions::default();
+    let options = AtlasOptions {
+        max_stretch: args.max_stretch.unwrap_or(defaults.max_stretch),
+        margin: args.margin.unwrap_or(defaults.margin),
+        method,
+        iterations: args.iterations.unwrap_or(defaults.iterations),
+        rotate: !args.no_rotate,
+        merge: defaults.merge,
+        polish: args.polish.unwrap_or(defaults.polish),
+    };
+    let (obj, mesh) = load_mesh(&args.input)?;
+    let start = Instant::now();
+    let result = atlas(&mesh, &options)?;
+    let seconds = start.elapsed().as_secs_f64();
+    report_atlas(args, &obj, &mesh, &result, seconds, None)
+}
+
+/// Writes an atlas (per-corner UVs) and prints its figures: charts, utilization, seam ratio,
+/// metrics; `split` tells, for `--cut auto`, whether the single chart had to be split.
+fn report_atlas(
+    args: &UnwrapArgs,
+    obj: &ObjMesh,
+    mesh: &TriMesh,
+    atlas: &Atlas,
+    seconds: f64,
+    split: Option<bool>,
+) -> Result<(), Failure> {
+    let flat: Vec<u32> = atlas.triangles.iter().flatten().copied().collect();
+    write_obj_with_corner_uv(&args.output, &obj.positions, &obj.triangles, &atlas.uv, &flat)?;
+    if let Some(svg) = &args.svg {
+        write_uv_svg(svg, &atlas.uv, &atlas.triangles)?;
+    }
+    let metrics = distortion(mesh.points(), mesh.triangles(), &atlas.uv, &atlas.triangles)?;
+    let (seam, total) = (atlas_seam_length(mesh, atlas), total_edge_length(mesh));
+    if args.json {
+        let mut object = serde_json::json!({
+            "method": method_label(args.method()),
+            "mode": if split.is_some() { "cut" } else { "atlas" },
+            "seconds": seconds,
+            "vertices": mesh.vertex_count(),
+            "output": args.output.display().to_string(),
+            "charts": atlas.charts.len(),
+            "utilization": atlas.utilization,
+            "seam_length": seam,
+            "seam_ratio": seam / total,
+            "uv_vertices": atlas.uv.len(),
+        });
+        if let Some(split) = split {
+            merge(&mut object, serde_json::json!({ "split": split }));
+        }
+        merge(&mut object, metrics.to_json());
+        println!("{object}");
+    } else {
+        println!(
+            "{}{}: {} vertices, {} triangles, {:.3} s -> {}",
+            method_label(args.method()),
+            if split.is_some() { " (cut)" } else { " (atlas)" },
+            mesh.vertex_count(),
+            mesh.triangle_count(),
+            seconds,
+            args.output.display()
+        );
+        if split == Some(true) {
+            println!("  the single cut chart flipped or overlapped: split into the fewest valid charts found");
+        }
+        println!("  charts                  {}", atlas.charts.len());
+        println!("  utilization             {:.3}", atlas.utilization);
+        println!("  seam                    {:.4} of total edge length", seam / total);
+        print_metrics_text(&metrics);
+    }
+    Ok(())
+}
+
+/// Total 3D length of the input edges whose two sides have different UV vertices.
+fn atlas_seam_length(mesh: &TriMesh, atlas: &Atlas) -> f64 {
+    let twin = &mesh.connectivity().twin;
+    let corner = |h: usize| atlas.triangles[h / 3][h % 3];
+    (0..twin.len())
+        .filter(|&h| twin[h] != u32::MAX && (twin[h] as usize) > h)
+        .filter(|&h| {
+            let g = twin[h] as usize;
+            let (nh, ng) = (3 * (h / 3) + (h + 1) % 3, 3 * (g / 3) + (g + 1) % 3);
+            corner(h) != corner(ng) || corner(nh) != corner(g)
+        })
+        .map(|h| {
+            let (a, b) = (mesh.tail(h as u32), mesh.head(h as u32));
+            let (p, q) = (mesh.points()[a as usize], mesh.points()[b as usize]);
+            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+        })
+        .sum()
 }
 
 fn sphere(args: &SphereArgs) -> Result<(), Failure> {
@@ -379,6 +619,102 @@ fn sphere(args: &SphereArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+fn periodic(args: &PgpArgs) -> Result<(), Failure> {
+    let (obj, mesh) = load_mesh(&args.input)?;
+    if let Some(w) = args.omega {
+        if !(w.is_finite() && w > 0.0) {
+            return Err(usage(format!("--omega must be a finite number > 0 (got {w})")));
+        }
+    }
+    if args.quad_mesh.is_some() {
+        return Err(Failure {
+            message: "--quad-mesh: PGP quad-dominant remeshing (Ray et al. 2006 §5) is not implemented yet".into(),
+            usage: false,
+        });
+    }
+    let symmetry = match args.smooth {
+        SmoothName::None => None,
+        SmoothName::TwoPi => Some(Symmetry::Vector),
+        SmoothName::Pi => Some(Symmetry::Line),
+        SmoothName::HalfPi => Some(Symmetry::Cross),
+    };
+    let options = PgpOptions {
+        omega: args.omega,
+        curl_correction: args.curl_correction,
+        smoothing: symmetry.map(|symmetry| SmoothingOptions { symmetry, ..SmoothingOptions::default() }),
+        ..PgpOptions::default()
+    };
+    let start = Instant::now();
+    let result = pgp(&mesh, &options, &mut Progress::none())?;
+    let seconds = start.elapsed().as_secs_f64();
+    let q = quality(&mesh, &result.param, &result.singularities, &result.normals, &result.field, result.omega)?;
+    let uv: Vec<[f64; 2]> = result
+        .param
+        .coords
+        .iter()
+        .flat_map(|c| c.map(|x| [x[0] / std::f64::consts::TAU, x[1] / std::f64::consts::TAU]))
+        .collect();
+    let uv_triangles: Vec<u32> = (0..uv.len() as u32).collect();
+    write_obj_with_corner_uv(&args.output, &obj.positions, &obj.triangles, &uv, &uv_triangles)?;
+    let points = result.singularities.singular_points();
+    if let Some(svg) = &args.svg {
+        let picture = PeriodicPicture {
+            points: mesh.points(),
+            triangles: mesh.triangles(),
+            coords: &result.param.coords,
+            singular_triangles: &result.singularities.triangles,
+            singular_points: &points,
+        };
+        write_periodic_svg(svg, &picture)?;
+    }
+    let s = &result.singularities;
+    let genus = mesh.topology().genus;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::json!({
+                "method": "pgp", "seconds": seconds, "vertices": mesh.vertex_count(), "triangles": mesh.triangle_count(),
+                "genus": genus, "omega": result.omega, "curl_correction": args.curl_correction,
+                "singular_vertices": s.vertices.len(), "singular_edges": s.edges.len(),
+                "singular_triangles": s.triangles.len(), "singular_triangle_fraction": q.singular_triangle_fraction,
+                "singular_points": points.len(), "index_sum": s.index_sum(),
+                "newton_iterations": result.solve.iterations, "converged": result.solve.converged,
+                "final_gradient": result.solve.final_gradient,
+                "stretch": q.stretch, "shear": q.shear, "alignment_degrees": q.alignment_degrees,
+                "output": args.output.display().to_string(),
+            })
+        );
+    } else {
+        println!(
+            "pgp: {} vertices, {} triangles, genus {genus}, omega {:.4}, {:.3} s -> {}",
+            mesh.vertex_count(),
+            mesh.triangle_count(),
+            result.omega,
+            seconds,
+            args.output.display()
+        );
+        println!(
+            "  singular vertices / edges / triangles  {} / {} / {} ({:.2}% of the triangles)",
+            s.vertices.len(),
+            s.edges.len(),
+            s.triangles.len(),
+            100.0 * q.singular_triangle_fraction
+        );
+        println!("  singular points                        {} (index sum {:.2})", points.len(), s.index_sum());
+        println!(
+            "  Newton iterations                      {}{} (|grad F**| {:.1e})",
+            result.solve.iterations,
+            if result.solve.converged { "" } else { ", not converged" },
+            result.solve.final_gradient
+        );
+        println!(
+            "  stretch / shear / alignment            {:.4} / {:.4} / {:.2}°",
+            q.stretch, q.shear, q.alignment_degrees
+        );
+    }
+    Ok(())
+}
+
 /// Writes `v` lines (NaN positions of unreferenced vertices as `v 0 0 0`) and `f` lines.
 fn write_sphere_obj(path: &Path, positions: &[[f64; 3]], triangles: &[u32]) -> Result<(), Failure> {
     use std::io::Write;
@@ -396,58 +732,161 @@ fn write_sphere_obj(path: &Path, positions: &[[f64; 3]], triangles: &[u32]) -> R
 
 /// Rejects options that do not apply to the chosen method, so nothing is silently ignored.
 fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
-    let free = matches!(args.method, MethodName::NaturalConformal | MethodName::Abf | MethodName::AbfPlusPlus);
-    let nonlinear = args.method.nonlinear().is_some();
+    if args.atlas {
+        return Ok(()); // checked by `unwrap_atlas`
+    }
+    let method = args.method();
+    let free = matches!(
+        method,
+        MethodName::NaturalConformal | MethodName::Abf | MethodName::AbfPlusPlus | MethodName::SpectralConformal
+    );
+    let nonlinear = method.nonlinear().is_some();
+    let optimizing = matches!(method, MethodName::IntrinsicOptimal | MethodName::BoundaryOptimized);
     if (free || nonlinear) && (args.boundary.is_some() || args.distribution.is_some()) {
         return Err(usage(format!(
             "--boundary and --distribution apply to fixed-boundary methods, not {}",
-            method_label(args.method)
+            method_label(method)
         )));
     }
-    if !nonlinear && args.iterations.is_some() {
+    if !(nonlinear || method == MethodName::BoundaryOptimized) && args.iterations.is_some() {
         return Err(usage(
-            "--iterations applies to the non-linear methods (slim, arap, mips, stretch, green-lagrange, degener)",
+            "--iterations applies to the non-linear methods (slim, arap, mips, stretch, green-lagrange, degener) and boundary-optimized",
         ));
     }
-    if args.method != MethodName::Degener && args.theta.is_some() {
+    if method != MethodName::Degener && args.theta.is_some() {
         return Err(usage("--theta applies to --method degener only"));
     }
-    if !free && !args.pins.is_empty() {
+    if !matches!(method, MethodName::NaturalConformal | MethodName::Abf | MethodName::AbfPlusPlus)
+        && !args.pins.is_empty()
+    {
         return Err(usage("--pin applies to --method natural-conformal, abf and abf++ only"));
     }
     if free && !args.pins.is_empty() && args.pins.len() != 2 {
         return Err(usage(format!("give --pin exactly twice (got {})", args.pins.len())));
     }
-    if args.method != MethodName::Intrinsic && (args.lambda.is_some() || args.mu.is_some()) {
-        return Err(usage("--lambda and --mu apply to --method intrinsic only"));
+    if !matches!(method, MethodName::Intrinsic | MethodName::BoundaryOptimized)
+        && (args.lambda.is_some() || args.mu.is_some())
+    {
+        return Err(usage("--lambda and --mu apply to --method intrinsic and boundary-optimized only"));
+    }
+    if !optimizing && args.energy.is_some() {
+        return Err(usage("--energy applies to --method intrinsic-optimal and boundary-optimized only"));
     }
     Ok(())
 }
 
-fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<Vec<[f64; 2]>, Failure> {
-    if let Some(method) = args.method.nonlinear() {
+/// The boundary shape and spacing of `--boundary` and `--distribution`.
+fn boundary_of(args: &UnwrapArgs) -> Result<(BoundaryShape, Distribution), Failure> {
+    let shape = match args.boundary.as_deref() {
+        None | Some("circle") => BoundaryShape::Circle,
+        Some("square") => BoundaryShape::Square,
+        Some(file) => BoundaryShape::Given(read_boundary_file(Path::new(file))?),
+    };
+    let distribution = match args.distribution {
+        None | Some(DistributionName::Chord) => Distribution::ChordLength,
+        Some(DistributionName::Uniform) => Distribution::Uniform,
+        Some(DistributionName::Centripetal) => Distribution::Centripetal,
+    };
+    Ok((shape, distribution))
+}
+
+fn energy_of(args: &UnwrapArgs) -> (DistortionEnergy, &'static str) {
+    match args.energy {
+        None | Some(EnergyName::Edge) => (DistortionEnergy::EdgeLength, "edge"),
+        Some(EnergyName::Area) => (DistortionEnergy::Area, "area"),
+    }
+}
+
+/// No extra JSON fields.
+fn plain(uv: Vec<[f64; 2]>) -> (Vec<[f64; 2]>, serde_json::Value) {
+    (uv, serde_json::json!({}))
+}
+
+/// The UVs of the chosen method, and method-specific JSON fields.
+fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<(Vec<[f64; 2]>, serde_json::Value), Failure> {
+    let method = args.method();
+    if let Some(method) = method.nonlinear() {
         let mut options = NonlinearOptions::new(method);
         options.iterations = args.iterations.unwrap_or(options.iterations);
         options.theta = args.theta.unwrap_or(options.theta);
-        return Ok(nonlinear_map(mesh, &options)?.uv);
+        return Ok(plain(nonlinear_map(mesh, &options)?.uv));
     }
-    let weights = match args.method {
-        MethodName::NaturalConformal => return Ok(natural_conformal_map(mesh, cli_pins(mesh, &args.pins)?)?),
+    let weights = match method {
+        MethodName::NaturalConformal => return Ok(plain(natural_conformal_map(mesh, cli_pins(mesh, &args.pins)?)?)),
         MethodName::Abf | MethodName::AbfPlusPlus => {
-            let variant = if args.method == MethodName::Abf { AbfVariant::Abf } else { AbfVariant::AbfPlusPlus };
+            let variant = if method == MethodName::Abf { AbfVariant::Abf } else { AbfVariant::AbfPlusPlus };
             let options = AbfOptions { variant, pins: cli_pins(mesh, &args.pins)?, ..AbfOptions::default() };
             let result = abf(mesh, &options)?;
             if !args.json {
                 let r = result.report;
                 println!(
                     "{}: {} iterations, gradient norm {:.2e}{}",
-                    method_label(args.method),
+                    method_label(method),
                     r.iterations,
                     r.gradient_norm,
                     if r.converged { "" } else { " (not converged)" }
                 );
             }
-            return Ok(result.uv);
+            return Ok(plain(result.uv));
+        }
+        MethodName::SpectralConformal => {
+            let r = spectral_conformal_map(mesh, &SpectralOptions::default(), &mut Progress::none())?;
+            if !args.json {
+                println!(
+                    "spectral-conformal: eigenvalue {:.4e}, residual {:.1e} after {} iterations{}",
+                    r.eigenvalue,
+                    r.residual,
+                    r.iterations,
+                    if r.converged { "" } else { " (not converged)" }
+                );
+            }
+            let extra = serde_json::json!({"eigenvalue": r.eigenvalue, "residual": r.residual, "iterations": r.iterations, "converged": r.converged});
+            return Ok((r.uv, extra));
+        }
+        MethodName::IntrinsicOptimal => {
+            let (shape, distribution) = boundary_of(args)?;
+            let (energy, name) = energy_of(args);
+            let options = NearOptimalOptions { energy, shape, distribution, ..NearOptimalOptions::default() };
+            let r = near_optimal_map(mesh, &options, &mut Progress::none())?;
+            if !args.json {
+                println!(
+                    "intrinsic-optimal ({name}): lambda {:.6}, energy {:.6e} (DCP {:.6e}, DAP {:.6e})",
+                    r.lambda, r.energy, r.energy_conformal, r.energy_authalic
+                );
+            }
+            let extra = serde_json::json!({
+                "energy_name": name, "lambda": r.lambda, "energy": r.energy,
+                "energy_dcp": r.energy_conformal, "energy_dap": r.energy_authalic, "boundary_scale": r.boundary_scale,
+            });
+            return Ok((r.uv, extra));
+        }
+        MethodName::BoundaryOptimized => {
+            let (shape, distribution) = boundary_of(args)?;
+            let (energy, name) = energy_of(args);
+            let defaults = BoundaryOptimizationOptions::default();
+            let options = BoundaryOptimizationOptions {
+                energy,
+                shape,
+                distribution,
+                lambda: args.lambda.unwrap_or(defaults.lambda),
+                mu: args.mu.unwrap_or(defaults.mu),
+                iterations: args.iterations.unwrap_or(defaults.iterations),
+                ..defaults
+            };
+            let r = boundary_optimized_map(mesh, &options, &mut Progress::none())?;
+            let (first, last) = (r.history[0], *r.history.last().unwrap_or(&r.history[0]));
+            if !args.json {
+                println!(
+                    "boundary-optimized ({name}): energy {first:.6e} -> {last:.6e} in {} iterations{}",
+                    r.iterations,
+                    if r.converged { "" } else { " (iteration limit)" }
+                );
+            }
+            let extra = serde_json::json!({
+                "energy_name": name, "initial_energy": first, "final_energy": last, "iterations": r.iterations,
+                "converged": r.converged, "energy_history": r.history, "boundary_scale": r.boundary_scale,
+            });
+            return Ok((r.uv, extra));
         }
         MethodName::Slim
         | MethodName::Arap
@@ -464,17 +903,8 @@ fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<Vec<[f64; 2]>, Failur
         MethodName::MeanValue => Weights::MeanValue,
         MethodName::Intrinsic => Weights::Intrinsic { lambda: args.lambda.unwrap_or(1.0), mu: args.mu.unwrap_or(0.0) },
     };
-    let shape = match args.boundary.as_deref() {
-        None | Some("circle") => BoundaryShape::Circle,
-        Some("square") => BoundaryShape::Square,
-        Some(file) => BoundaryShape::Given(read_boundary_file(Path::new(file))?),
-    };
-    let distribution = match args.distribution {
-        None | Some(DistributionName::Chord) => Distribution::ChordLength,
-        Some(DistributionName::Uniform) => Distribution::Uniform,
-        Some(DistributionName::Centripetal) => Distribution::Centripetal,
-    };
-    Ok(fixed_boundary_map(mesh, &FixedBoundaryOptions { weights, shape, distribution })?)
+    let (shape, distribution) = boundary_of(args)?;
+    Ok(plain(fixed_boundary_map(mesh, &FixedBoundaryOptions { weights, shape, distribution })?))
 }
 
 /// The two `--pin` vertices placed at (0, 0) and (d, 0), d their 3D distance (as the automatic

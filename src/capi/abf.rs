@@ -121,7 +121,13 @@ pub unsafe extern "C" fn uvf_abf(
             }
             n => return Err(Error::InvalidArgument(format!("pin_count must be 0 or 2, not {n}"))),
         };
-        let options = AbfOptions { variant, max_iterations: o.max_iterations, tolerance: o.tolerance, pins };
+        let options = AbfOptions {
+            variant,
+            max_iterations: o.max_iterations,
+            tolerance: o.tolerance,
+            pins,
+            ..AbfOptions::default()
+        };
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let result = abf_with_progress(&mesh, &options, &mut Progress::new(&mut callback))?;

@@ -1,7 +1,7 @@
 //! Closed and higher-genus surfaces: cutting a mesh into a disk (result handle with accessors)
 //! and spherical parameterization of closed genus-0 meshes.
 
-use super::{borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, read_options};
+use super::{borrow_slice, borrow_slice_mut, checked_count, copy_out, guard, mesh_from_raw, read_options};
 use crate::error::{Error, Result, UvfStatus};
 use crate::mesh::cut::{cut_to_disk, total_edge_length, Cut, EdgeCost};
 use crate::methods::sphere::{spherical_map, SphereMethod, SphereOptions};
@@ -127,18 +127,6 @@ pub unsafe extern "C" fn uvf_cut_to_disk(
 unsafe fn handle<'a>(cut: *const UvfCut) -> Result<&'a UvfCut> {
     // SAFETY: the caller passes a handle from `uvf_cut_to_disk` not yet freed, or NULL.
     unsafe { cut.as_ref() }.ok_or_else(|| Error::InvalidArgument("cut handle is NULL".into()))
-}
-
-/// Copies `values` into a caller array that must hold at least `values.len()` elements.
-fn copy_out<T: Copy>(values: &[T], out: *mut T, capacity: usize, what: &'static str) -> Result<()> {
-    if capacity < values.len() {
-        return Err(Error::InvalidArgument(format!(
-            "{what} holds {capacity} elements but {} are needed",
-            values.len()
-        )));
-    }
-    borrow_slice_mut(out, values.len(), what)?.copy_from_slice(values);
-    Ok(())
 }
 
 /// Sizes and seam length of a cut. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).

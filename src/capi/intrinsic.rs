@@ -1,17 +1,23 @@
 //! Desbrun–Meyer–Alliez 2002 interactive tools: Lagrange point constraints (§4.1), the boundary
-//! editor and its Green-function basis (§4.2); entry points of the methods not implemented yet
-//! (spectral conformal, near-optimal λ, boundary optimization) return `UVF_NOT_IMPLEMENTED`.
+//! editor and its Green-function basis (§4.2), near-optimal λ (§5.1), boundary optimization
+//! (§5.2); and the spectral conformal map (Mullen et al. 2008).
 
-use super::methods::UvfFixedBoundaryOptions;
+use super::methods::{
+    distribution_from_code, shape_from_parts, UvfFixedBoundaryOptions, UVF_BOUNDARY_CIRCLE, UVF_DISTRIBUTION_CHORD,
+};
 use super::{
     borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv,
     UvfProgressFn,
 };
 use crate::error::{Error, Result, UvfStatus};
+use crate::methods::boundary_optimization::{boundary_optimized_map, BoundaryOptimizationOptions};
 use crate::methods::constraints::{
     constrained_fixed_boundary_map, constrained_natural_conformal_map, pinned_natural_conformal_map, PointConstraint,
 };
 use crate::methods::intrinsic::BoundaryEditor;
+use crate::methods::length_area_distortion::DistortionEnergy;
+use crate::methods::near_optimal::{near_optimal_map, NearOptimalOptions};
+use crate::methods::spectral_conformal::{spectral_conformal_map, SpectralOptions};
 use crate::progress::Progress;
 use std::os::raw::c_void;
 
@@ -319,62 +325,425 @@ pub unsafe extern "C" fn uvf_boundary_editor_basis(
     })
 }
 
-/// Spectral conformal map (Mullen, Tong, Alliez, Desbrun 2008). Not implemented yet: always
-/// returns `UVF_NOT_IMPLEMENTED` (or `UVF_INVALID_ARGUMENT` for NULL mesh arrays).
+/// Edge-length distortion `Σ_edges (|u_i − u_j|² / |x_i − x_j|² − 1)²` (Desbrun et al. 2002 §5.1).
+pub const UVF_ENERGY_EDGE_LENGTH: u32 = 0;
+/// Area distortion `Σ_faces ((A^uv / A^3D)² − 1)²` (Desbrun et al. 2002 §5.1, as printed).
+pub const UVF_ENERGY_AREA: u32 = 1;
+
+fn energy_from(code: u32) -> Result<DistortionEnergy> {
+    match code {
+        UVF_ENERGY_EDGE_LENGTH => Ok(DistortionEnergy::EdgeLength),
+        UVF_ENERGY_AREA => Ok(DistortionEnergy::Area),
+        e => Err(Error::InvalidArgument(format!("unknown energy {e}; use UVF_ENERGY_EDGE_LENGTH or UVF_ENERGY_AREA"))),
+    }
+}
+
+/// Options of `uvf_spectral_conformal_map`. Initialise with `uvf_spectral_options_default`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct UvfSpectralOptions {
+    /// `sizeof(UvfSpectralOptions)`, set by the default initialiser.
+    pub struct_size: usize,
+    /// Inverse-iteration limit (default 200; ≥ 1).
+    pub iterations: u32,
+    /// Stop when the eigenpair's normwise backward error is at most this (default 1e-12; > 0).
+    pub tolerance: f64,
+    /// Optional progress callback (may be NULL), called once per iteration.
+    pub progress: UvfProgressFn,
+    /// Passed to `progress` unchanged.
+    pub progress_user: *mut c_void,
+}
+
+impl Default for UvfSpectralOptions {
+    fn default() -> Self {
+        let d = SpectralOptions::default();
+        UvfSpectralOptions {
+            struct_size: std::mem::size_of::<Self>(),
+            iterations: d.iterations as u32,
+            tolerance: d.tolerance,
+            progress: None,
+            progress_user: std::ptr::null_mut(),
+        }
+    }
+}
+
+/// What `uvf_spectral_conformal_map` reports.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UvfSpectralReport {
+    /// Inverse iterations done.
+    pub iterations: u32,
+    /// 1 when the backward error reached the tolerance, 0 when the iteration limit stopped.
+    pub converged: u32,
+    /// The eigenvalue λ of `L_C z = λ B z` (the conformal energy of the boundary-normalized map).
+    pub eigenvalue: f64,
+    /// Normwise backward error `‖L_C z − λBz‖ / ((‖L_C‖∞ + |λ|)‖z‖)` of the eigenpair.
+    pub residual: f64,
+}
+
+/// Fills `options` with defaults (200 iterations, tolerance 1e-12, no callback).
 ///
 /// # Safety
-/// The arrays must hold the stated number of elements.
+/// `options` must be NULL or point to a writable struct.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_spectral_options_default(options: *mut UvfSpectralOptions) {
+    if !options.is_null() {
+        options.write(UvfSpectralOptions::default());
+    }
+}
+
+/// Spectral conformal map (Mullen, Tong, Alliez, Desbrun 2008): the free-boundary conformal map
+/// without pinned vertices, the generalized eigenvector of `L_C z = λ B z` (L_C the conformal
+/// energy, B 1 on boundary vertices) with the smallest non-trivial eigenvalue, by inverse
+/// iteration on one sparse factorization. The result is scaled to the surface area with the
+/// two boundary vertices farthest apart at (0, 0) and on the +u axis; it is invariant (up to
+/// that placement) to rigid motions and scaling of the input, and a developable mesh gets its
+/// exact development.
+///
+/// `uv_out` receives 2 doubles per vertex (NaN for unreferenced ones); `options` and
+/// `report_out` may be NULL. A run that reaches the iteration limit without the tolerance
+/// still returns `UVF_OK` with `report_out->converged = 0`. Returns `UVF_OK`,
+/// `UVF_INVALID_ARGUMENT` (bad pointer or option), `UVF_INVALID_MESH`,
+/// `UVF_UNSUPPORTED_TOPOLOGY` (not a connected genus-0 mesh with a boundary),
+/// `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
+/// untouched.
+///
+/// # Safety
+/// The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn uvf_spectral_conformal_map(
     positions: *const f64,
     vertex_count: usize,
     triangles: *const u32,
     triangle_count: usize,
+    options: *const UvfSpectralOptions,
     uv_out: *mut f64,
+    report_out: *mut UvfSpectralReport,
 ) -> UvfStatus {
     guard(|| {
-        let _ = (positions, vertex_count, triangles, triangle_count, uv_out);
-        Err(Error::NotImplemented("spectral conformal map (Mullen et al. 2008)"))
+        let o = read_options(options, UvfSpectralOptions::default(), SPECTRAL_OPTIONS_V1, "UvfSpectralOptions")?;
+        let opts = SpectralOptions { iterations: o.iterations as usize, tolerance: o.tolerance };
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        // Checked before the work so that a bad output pointer leaves everything untouched.
+        borrow_slice_mut(uv_out, checked_count(vertex_count, 2, "uv")?, "uv_out")?;
+        let mut callback = progress_closure(o.progress, o.progress_user);
+        let r = spectral_conformal_map(&mesh, &opts, &mut Progress::new(&mut callback))?;
+        write_uv(&r.uv, uv_out)?;
+        if !report_out.is_null() {
+            // SAFETY: the caller passes NULL or a writable report.
+            unsafe {
+                report_out.write(UvfSpectralReport {
+                    iterations: r.iterations as u32,
+                    converged: u32::from(r.converged),
+                    eigenvalue: r.eigenvalue,
+                    residual: r.residual,
+                })
+            };
+        }
+        Ok(())
     })
 }
 
-/// Near-optimal intrinsic map (Desbrun et al. 2002 §5.1). Not implemented yet: always returns
-/// `UVF_NOT_IMPLEMENTED`.
+const SPECTRAL_OPTIONS_V1: usize = std::mem::size_of::<UvfSpectralOptions>();
+
+/// Options of `uvf_intrinsic_optimal_map`. Initialise with
+/// `uvf_intrinsic_optimal_options_default`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct UvfIntrinsicOptimalOptions {
+    /// `sizeof(UvfIntrinsicOptimalOptions)`, set by the default initialiser.
+    pub struct_size: usize,
+    /// `UVF_ENERGY_EDGE_LENGTH` (default) or `UVF_ENERGY_AREA`.
+    pub energy: u32,
+    /// One of `UVF_BOUNDARY_*` (default circle); a circle or square is scaled so that the DCP
+    /// map's UV area equals the surface area, given positions are used as given.
+    pub boundary: u32,
+    /// One of `UVF_DISTRIBUTION_*` (default chord length).
+    pub distribution: u32,
+    /// Smallest λ allowed (default -INFINITY).
+    pub lambda_min: f64,
+    /// Largest λ allowed (default +INFINITY).
+    pub lambda_max: f64,
+    /// Number of entries of `given_vertices` for `UVF_BOUNDARY_GIVEN`.
+    pub given_count: usize,
+    /// Boundary vertices whose UV is given; must cover whole boundary loops.
+    pub given_vertices: *const u32,
+    /// 2 doubles per given vertex.
+    pub given_uv: *const f64,
+    /// Optional progress callback (may be NULL).
+    pub progress: UvfProgressFn,
+    /// Passed to `progress` unchanged.
+    pub progress_user: *mut c_void,
+}
+
+impl Default for UvfIntrinsicOptimalOptions {
+    fn default() -> Self {
+        UvfIntrinsicOptimalOptions {
+            struct_size: std::mem::size_of::<Self>(),
+            energy: UVF_ENERGY_EDGE_LENGTH,
+            boundary: UVF_BOUNDARY_CIRCLE,
+            distribution: UVF_DISTRIBUTION_CHORD,
+            lambda_min: f64::NEG_INFINITY,
+            lambda_max: f64::INFINITY,
+            given_count: 0,
+            given_vertices: std::ptr::null(),
+            given_uv: std::ptr::null(),
+            progress: None,
+            progress_user: std::ptr::null_mut(),
+        }
+    }
+}
+
+/// What `uvf_intrinsic_optimal_map` reports.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UvfIntrinsicOptimalReport {
+    /// The minimizing λ of `λ·U^A + (1 − λ)·U^χ`.
+    pub lambda: f64,
+    /// The energy at λ.
+    pub energy: f64,
+    /// The energy of the DCP map (λ = 1).
+    pub energy_conformal: f64,
+    /// The energy of the DAP map (λ = 0).
+    pub energy_authalic: f64,
+    /// Factor applied to the circle or square boundary (1 for given positions).
+    pub boundary_scale: f64,
+    /// Clockwise or degenerate UV triangles of the result (λ outside [0, 1] can fold).
+    pub flipped: usize,
+}
+
+/// Fills `options` with defaults (edge-length energy, circle, chord length, λ unbounded).
 ///
 /// # Safety
-/// Never reads its arguments.
+/// `options` must be NULL or point to a writable struct.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_intrinsic_optimal_options_default(options: *mut UvfIntrinsicOptimalOptions) {
+    if !options.is_null() {
+        options.write(UvfIntrinsicOptimalOptions::default());
+    }
+}
+
+const OPTIMAL_OPTIONS_V1: usize = std::mem::size_of::<UvfIntrinsicOptimalOptions>();
+
+/// Near-optimal intrinsic map (Desbrun et al. 2002 §5.1, eq. 8): the map
+/// `λ·U^A + (1 − λ)·U^χ` (U^A the DCP map, U^χ the DAP map, same boundary) minimizing the
+/// chosen distortion energy over λ in [`lambda_min`, `lambda_max`]. The energy is an exact
+/// polynomial in λ (degree 4 for edge lengths, 8 for areas); its minimum is found by root
+/// finding on the derivative and compared with the range's ends and with λ = 0 and λ = 1, so
+/// the result is never worse than pure DCP or pure DAP when they are in the range.
+///
+/// `uv_out` receives 2 doubles per vertex; `options` and `report_out` may be NULL. Returns
+/// `UVF_OK`, `UVF_INVALID_ARGUMENT` (bad pointer, unknown energy/boundary/distribution, empty
+/// or NaN λ range, bad given boundary), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`,
+/// `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
+/// untouched.
+///
+/// # Safety
+/// The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn uvf_intrinsic_optimal_map(
     positions: *const f64,
     vertex_count: usize,
     triangles: *const u32,
     triangle_count: usize,
-    energy: u32,
-    lambda_out: *mut f64,
+    options: *const UvfIntrinsicOptimalOptions,
     uv_out: *mut f64,
+    report_out: *mut UvfIntrinsicOptimalReport,
 ) -> UvfStatus {
     guard(|| {
-        let _ = (positions, vertex_count, triangles, triangle_count, energy, lambda_out, uv_out);
-        Err(Error::NotImplemented("near-optimal intrinsic map (Desbrun et al. 2002 §5.1)"))
+        let o = read_options(
+            options,
+            UvfIntrinsicOptimalOptions::default(),
+            OPTIMAL_OPTIONS_V1,
+            "UvfIntrinsicOptimalOptions",
+        )?;
+        let opts = NearOptimalOptions {
+            energy: energy_from(o.energy)?,
+            shape: shape_from_parts(o.boundary, o.given_count, o.given_vertices, o.given_uv)?,
+            distribution: distribution_from_code(o.distribution)?,
+            lambda_min: o.lambda_min,
+            lambda_max: o.lambda_max,
+        };
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        borrow_slice_mut(uv_out, checked_count(vertex_count, 2, "uv")?, "uv_out")?;
+        let mut callback = progress_closure(o.progress, o.progress_user);
+        let r = near_optimal_map(&mesh, &opts, &mut Progress::new(&mut callback))?;
+        write_uv(&r.uv, uv_out)?;
+        if !report_out.is_null() {
+            // SAFETY: the caller passes NULL or a writable report.
+            unsafe {
+                report_out.write(UvfIntrinsicOptimalReport {
+                    lambda: r.lambda,
+                    energy: r.energy,
+                    energy_conformal: r.energy_conformal,
+                    energy_authalic: r.energy_authalic,
+                    boundary_scale: r.boundary_scale,
+                    flipped: r.flipped,
+                })
+            };
+        }
+        Ok(())
     })
 }
 
-/// Boundary-optimized intrinsic map (Desbrun et al. 2002 §5.2). Not implemented yet: always
-/// returns `UVF_NOT_IMPLEMENTED`.
+/// Options of `uvf_boundary_optimized_map`. Initialise with
+/// `uvf_boundary_optimization_options_default`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct UvfBoundaryOptimizationOptions {
+    /// `sizeof(UvfBoundaryOptimizationOptions)`, set by the default initialiser.
+    pub struct_size: usize,
+    /// `UVF_ENERGY_EDGE_LENGTH` (default) or `UVF_ENERGY_AREA`.
+    pub energy: u32,
+    /// Iteration limit (default 100).
+    pub iterations: u32,
+    /// λ of the intrinsic map λ·DCP + μ·DAP (default 1).
+    pub lambda: f64,
+    /// μ of the intrinsic map (default 0).
+    pub mu: f64,
+    /// Stop when an iteration lowers the energy by less than `tolerance × energy` (default
+    /// 1e-6; ≥ 0).
+    pub tolerance: f64,
+    /// Starting boundary: one of `UVF_BOUNDARY_*` (default circle, scaled to the surface
+    /// area); given positions must cover exactly the outer (longest) loop.
+    pub boundary: u32,
+    /// One of `UVF_DISTRIBUTION_*` (default chord length).
+    pub distribution: u32,
+    /// Number of entries of `given_vertices` for `UVF_BOUNDARY_GIVEN`.
+    pub given_count: usize,
+    /// Outer-loop vertices whose starting UV is given.
+    pub given_vertices: *const u32,
+    /// 2 doubles per given vertex.
+    pub given_uv: *const f64,
+    /// Optional progress callback (may be NULL), called once before each iteration; returning
+    /// non-zero cancels before that iteration.
+    pub progress: UvfProgressFn,
+    /// Passed to `progress` unchanged.
+    pub progress_user: *mut c_void,
+}
+
+impl Default for UvfBoundaryOptimizationOptions {
+    fn default() -> Self {
+        let d = BoundaryOptimizationOptions::default();
+        UvfBoundaryOptimizationOptions {
+            struct_size: std::mem::size_of::<Self>(),
+            energy: UVF_ENERGY_EDGE_LENGTH,
+            iterations: d.iterations as u32,
+            lambda: d.lambda,
+            mu: d.mu,
+            tolerance: d.tolerance,
+            boundary: UVF_BOUNDARY_CIRCLE,
+            distribution: UVF_DISTRIBUTION_CHORD,
+            given_count: 0,
+            given_vertices: std::ptr::null(),
+            given_uv: std::ptr::null(),
+            progress: None,
+            progress_user: std::ptr::null_mut(),
+        }
+    }
+}
+
+/// What `uvf_boundary_optimized_map` reports.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UvfBoundaryOptimizationReport {
+    /// Accepted iterations.
+    pub iterations: u32,
+    /// 1 when the tolerance was met or no step could lower the energy; 0 when the iteration
+    /// limit stopped the descent.
+    pub converged: u32,
+    /// Entries of the energy history (iterations + 1: the start, then each iteration), also
+    /// when `history_capacity` was smaller.
+    pub history_length: usize,
+    /// Energy of the starting map.
+    pub initial_energy: f64,
+    /// Energy of the returned map (never above `initial_energy`).
+    pub final_energy: f64,
+    /// Factor applied to the circle or square start (1 for given positions).
+    pub boundary_scale: f64,
+    /// Triangles flipped or degenerate in the starting map; no iteration changes any
+    /// triangle's orientation, so the result has the same ones (0 for a flip-free start).
+    pub flipped: usize,
+}
+
+/// Fills `options` with defaults (edge-length energy, DCP, circle, 100 iterations).
 ///
 /// # Safety
-/// Never reads its arguments.
+/// `options` must be NULL or point to a writable struct.
 #[no_mangle]
+pub unsafe extern "C" fn uvf_boundary_optimization_options_default(options: *mut UvfBoundaryOptimizationOptions) {
+    if !options.is_null() {
+        options.write(UvfBoundaryOptimizationOptions::default());
+    }
+}
+
+const BOUNDARY_OPTIONS_V1: usize = std::mem::size_of::<UvfBoundaryOptimizationOptions>();
+
+/// Boundary-optimized intrinsic map (Desbrun et al. 2002 §5.2): the map λ·DCP + μ·DAP whose
+/// outer boundary minimizes the chosen distortion energy, by descent on the boundary positions
+/// (gradient through the impulse responses of the factored map, L-BFGS directions, exact line
+/// search on the energy polynomial, steps that never flip or degenerate a triangle).
+///
+/// `uv_out` receives 2 doubles per vertex. `history_out` receives the first
+/// `min(history_capacity, history_length)` energies (start first; may be NULL when
+/// `history_capacity` is 0); `report_out->history_length` says how many there were. `options`
+/// and `report_out` may be NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`,
+/// `UVF_UNSUPPORTED_TOPOLOGY`, `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED` (the callback stops the
+/// run before its next iteration), `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
+///
+/// # Safety
+/// The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn uvf_boundary_optimized_map(
     positions: *const f64,
     vertex_count: usize,
     triangles: *const u32,
     triangle_count: usize,
-    energy: u32,
+    options: *const UvfBoundaryOptimizationOptions,
     uv_out: *mut f64,
+    history_out: *mut f64,
+    history_capacity: usize,
+    report_out: *mut UvfBoundaryOptimizationReport,
 ) -> UvfStatus {
     guard(|| {
-        let _ = (positions, vertex_count, triangles, triangle_count, energy, uv_out);
-        Err(Error::NotImplemented("boundary optimization (Desbrun et al. 2002 §5.2)"))
+        let o = read_options(
+            options,
+            UvfBoundaryOptimizationOptions::default(),
+            BOUNDARY_OPTIONS_V1,
+            "UvfBoundaryOptimizationOptions",
+        )?;
+        let opts = BoundaryOptimizationOptions {
+            energy: energy_from(o.energy)?,
+            lambda: o.lambda,
+            mu: o.mu,
+            shape: shape_from_parts(o.boundary, o.given_count, o.given_vertices, o.given_uv)?,
+            distribution: distribution_from_code(o.distribution)?,
+            iterations: o.iterations as usize,
+            tolerance: o.tolerance,
+        };
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        borrow_slice_mut(uv_out, checked_count(vertex_count, 2, "uv")?, "uv_out")?;
+        borrow_slice_mut(history_out, history_capacity, "history_out")?;
+        let mut callback = progress_closure(o.progress, o.progress_user);
+        let r = boundary_optimized_map(&mesh, &opts, &mut Progress::new(&mut callback))?;
+        write_uv(&r.uv, uv_out)?;
+        let written = r.history.len().min(history_capacity);
+        borrow_slice_mut(history_out, written, "history_out")?.copy_from_slice(&r.history[..written]);
+        if !report_out.is_null() {
+            // SAFETY: the caller passes NULL or a writable report.
+            unsafe {
+                report_out.write(UvfBoundaryOptimizationReport {
+                    iterations: r.iterations as u32,
+                    converged: u32::from(r.converged),
+                    history_length: r.history.len(),
+                    initial_energy: r.history[0],
+                    final_energy: *r.history.last().unwrap_or(&r.history[0]),
+                    boundary_scale: r.boundary_scale,
+                    flipped: r.flipped,
+                })
+            };
+        }
+        Ok(())
     })
 }

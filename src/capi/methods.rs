@@ -150,12 +150,22 @@ fn weights_from(o: &UvfFixedBoundaryOptions) -> Result<Weights> {
 }
 
 fn shape_from(o: &UvfFixedBoundaryOptions) -> Result<BoundaryShape> {
-    Ok(match o.boundary {
+    shape_from_parts(o.boundary, o.given_count, o.given_vertices, o.given_uv)
+}
+
+/// The boundary shape of a `UVF_BOUNDARY_*` code and, for `UVF_BOUNDARY_GIVEN`, its arrays.
+pub(crate) fn shape_from_parts(
+    boundary: u32,
+    given_count: usize,
+    given_vertices: *const u32,
+    given_uv: *const f64,
+) -> Result<BoundaryShape> {
+    Ok(match boundary {
         UVF_BOUNDARY_CIRCLE => BoundaryShape::Circle,
         UVF_BOUNDARY_SQUARE => BoundaryShape::Square,
         UVF_BOUNDARY_GIVEN => {
-            let v = borrow_slice(o.given_vertices, o.given_count, "given_vertices")?;
-            let uv = borrow_slice(o.given_uv, checked_count(o.given_count, 2, "given")?, "given_uv")?;
+            let v = borrow_slice(given_vertices, given_count, "given_vertices")?;
+            let uv = borrow_slice(given_uv, checked_count(given_count, 2, "given")?, "given_uv")?;
             BoundaryShape::Given(v.iter().zip(uv.chunks_exact(2)).map(|(&v, p)| (v, [p[0], p[1]])).collect())
         }
         b => return Err(Error::InvalidArgument(format!("unknown boundary {b}; use one of UVF_BOUNDARY_*"))),
@@ -168,7 +178,12 @@ pub(crate) fn fixed_options_from(o: &UvfFixedBoundaryOptions) -> Result<FixedBou
 }
 
 fn distribution_from(o: &UvfFixedBoundaryOptions) -> Result<Distribution> {
-    Ok(match o.distribution {
+    distribution_from_code(o.distribution)
+}
+
+/// The distribution of a `UVF_DISTRIBUTION_*` code.
+pub(crate) fn distribution_from_code(code: u32) -> Result<Distribution> {
+    Ok(match code {
         UVF_DISTRIBUTION_UNIFORM => Distribution::Uniform,
         UVF_DISTRIBUTION_CHORD => Distribution::ChordLength,
         UVF_DISTRIBUTION_CENTRIPETAL => Distribution::Centripetal,

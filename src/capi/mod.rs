@@ -7,6 +7,7 @@
 //! outputs are left untouched when a call fails.
 
 pub mod abf;
+pub mod atlas;
 pub mod closed;
 pub mod errors;
 pub mod intrinsic;
@@ -14,6 +15,7 @@ pub mod mesh;
 pub mod methods;
 pub mod metrics;
 pub mod nonlinear;
+pub mod pgp;
 
 use crate::error::{Error, Result, UvfStatus};
 use crate::TriMesh;
@@ -122,6 +124,18 @@ pub(crate) fn read_options<T: Copy>(ptr: *const T, default: T, min_size: usize, 
     // SAFETY: copying the first `n` bytes the caller declared valid into a defaulted struct.
     unsafe { std::ptr::copy_nonoverlapping(ptr as *const u8, &mut out as *mut T as *mut u8, n) };
     Ok(out)
+}
+
+/// Copies `values` into a caller array that must hold at least `values.len()` elements.
+pub(crate) fn copy_out<T: Copy>(values: &[T], out: *mut T, capacity: usize, what: &'static str) -> Result<()> {
+    if capacity < values.len() {
+        return Err(Error::InvalidArgument(format!(
+            "{what} holds {capacity} elements but {} are needed",
+            values.len()
+        )));
+    }
+    borrow_slice_mut(out, values.len(), what)?.copy_from_slice(values);
+    Ok(())
 }
 
 /// Wraps an optional C progress callback as a Rust closure.

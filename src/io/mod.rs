@@ -1,2 +1,3 @@
 pub mod obj;
+pub mod surface_svg;
 pub mod svg;

@@ -17,17 +17,15 @@
 //! its block of Uᵀ in the same layout (unit diagonal in L, pivots on the diagonal of Uᵀ).
 
 use super::multifrontal::{front_positions, run, Entries, PermutedLower};
+use super::supernodal_solve;
 use crate::error::{Error, Result};
 use faer::linalg::matmul::matmul;
-use faer::linalg::triangular_solve::{
-    solve_lower_triangular_in_place, solve_unit_lower_triangular_in_place, solve_upper_triangular_in_place,
-};
+use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_unit_lower_triangular_in_place};
 use faer::reborrow::{Reborrow, ReborrowMut};
-use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::SparseColMatRef;
 use faer::traits::ComplexField;
-use faer::{Accum, Mat, MatMut, MatRef, Par};
+use faer::{Accum, Mat, MatMut, Par};
 use std::sync::Arc;
 
 /// Adds the entries above the diagonal in rows `f..l` into the front: those in columns `f..l`
@@ -205,57 +203,87 @@ impl SparseLu {
         Ok(SparseLu { symbolic, values, forward })
     }
 
-    /// Solves `A X = B` for every column of `rhs`, in place.
-    pub fn solve_in_place(&self, rhs: &mut Mat<f64>) -> Result<()> {
-        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
-            return if self.symbolic.nrows() == 0 {
-                Ok(())
-            } else {
-                Err(Error::Internal("LU factors without supernodal structure".into()))
-            };
-        };
-        let k = rhs.ncols();
-        let mut x = Mat::<f64>::from_fn(rhs.nrows(), k, |i, j| rhs[(self.forward[i], j)]);
-        let mut gathered = Mat::<f64>::zeros(0, k);
-        for s in 0..sn.n_supernodes() {
-            let (f, l, pattern) = (sn.supernode_begin()[s], sn.supernode_end()[s], sn.supernode(s).pattern());
-            let (l_block, _) = self.blocks(sn, s);
-            let lf = MatRef::from_column_major_slice(l_block, l - f + pattern.len(), l - f);
-            let (l11, l21) = lf.split_at_row(l - f);
-            solve_unit_lower_triangular_in_place(l11, x.as_mut().subrows_mut(f, l - f), Par::Seq);
-            gathered.resize_with(pattern.len(), k, |_, _| 0.0);
-            matmul(gathered.as_mut(), Accum::Replace, l21, x.as_ref().subrows(f, l - f), 1.0, Par::Seq);
-            scatter_subtract(&mut x, pattern, &gathered);
+    /// Number of unknowns.
+    pub fn dim(&self) -> usize {
+        self.forward.len()
+    }
+
+    /// Stored values of L and U together.
+    pub fn factor_len(&self) -> usize {
+        self.values.len()
+    }
+
+    /// The elimination order: `order[k]` is the unknown eliminated k-th.
+    pub fn elimination_order(&self) -> &[usize] {
+        &self.forward
+    }
+
+    /// Solves `A X = B` (or `Aᵀ X = B` when `transpose`) for every column of `rhs`, in place.
+    pub fn solve_in_place(&self, rhs: &mut Mat<f64>, transpose: bool) -> Result<()> {
+        match rhs.ncols() {
+            0 => Ok(()),
+            1 => self.solve_columns::<1>(rhs, 0, transpose),
+            k => (0..k).step_by(2).try_for_each(|c| {
+                if c + 1 < k {
+                    self.solve_columns::<2>(rhs, c, transpose)
+                } else {
+                    self.solve_columns::<1>(rhs, c, transpose)
+                }
+            }),
         }
-        for s in (0..sn.n_supernodes()).rev() {
-            let (f, l, pattern) = (sn.supernode_begin()[s], sn.supernode_end()[s], sn.supernode(s).pattern());
-            let (_, u_block) = self.blocks(sn, s);
-            let uf = MatRef::from_column_major_slice(u_block, l - f + pattern.len(), l - f);
-            let (u11t, u12t) = uf.split_at_row(l - f);
-            let gathered = Mat::<f64>::from_fn(pattern.len(), k, |i, j| x[(pattern[i], j)]);
-            matmul(x.as_mut().subrows_mut(f, l - f), Accum::Add, u12t.transpose(), gathered.as_ref(), -1.0, Par::Seq);
-            solve_upper_triangular_in_place(u11t.transpose(), x.as_mut().subrows_mut(f, l - f), Par::Seq);
-        }
-        for (i, &original) in self.forward.iter().enumerate() {
-            for j in 0..k {
-                rhs[(original, j)] = x[(i, j)];
+    }
+
+    /// Solves columns `first..first + K` of `rhs` through the row-interleaved kernels.
+    fn solve_columns<const K: usize>(&self, rhs: &mut Mat<f64>, first: usize, transpose: bool) -> Result<()> {
+        let mut x: Vec<[f64; K]> = self.forward.iter().map(|&o| std::array::from_fn(|c| rhs[(o, first + c)])).collect();
+        self.solve_permuted_rows(&mut x, transpose, &mut Vec::new(), None)?;
+        for (row, &o) in x.iter().zip(&self.forward) {
+            for (c, &v) in row.iter().enumerate() {
+                rhs[(o, first + c)] = v;
             }
         }
         Ok(())
     }
 
-    /// Supernode `s`'s blocks of L and Uᵀ.
-    fn blocks(&self, sn: &SymbolicSupernodalCholesky<usize>, s: usize) -> (&[f64], &[f64]) {
-        let (start, len) = (2 * sn.col_ptr_for_val()[s], sn.col_ptr_for_val()[s + 1] - sn.col_ptr_for_val()[s]);
-        self.values[start..start + 2 * len].split_at(len)
+    /// Solves `P A Pᵀ Y = X` (`L U Y = X`; with `transpose`, `Uᵀ Lᵀ Y = X`) in place for K
+    /// row-interleaved right-hand sides in elimination order. `scratch` is reused; `active`
+    /// (from [`Self::active_supernodes`]) skips supernodes a sparse right-hand side does not
+    /// reach.
+    pub fn solve_permuted_rows<const K: usize>(
+        &self,
+        x: &mut [[f64; K]],
+        transpose: bool,
+        scratch: &mut Vec<[f64; K]>,
+        active: Option<&[bool]>,
+    ) -> Result<()> {
+        if x.len() != self.dim() {
+            return Err(Error::Internal(format!("{} rows given to a solve of {} unknowns", x.len(), self.dim())));
+        }
+        if self.dim() == 0 {
+            return Ok(());
+        }
+        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
+            return Err(Error::Internal("LU factors without supernodal structure".into()));
+        };
+        let l = supernodal_solve::Factor { sn, values: &self.values, blocks: 2, which: 0, unit_diagonal: true };
+        let ut = supernodal_solve::Factor { sn, values: &self.values, blocks: 2, which: 1, unit_diagonal: false };
+        if transpose {
+            ut.forward(x, scratch, active);
+            l.backward_transposed(false, x, scratch);
+        } else {
+            l.forward(x, scratch, active);
+            ut.backward_transposed(false, x, scratch);
+        }
+        Ok(())
     }
-}
 
-/// `x[pattern[i], j] -= values[i, j]`.
-fn scatter_subtract(x: &mut Mat<f64>, pattern: &[usize], values: &Mat<f64>) {
-    for j in 0..values.ncols() {
-        for (i, &row) in pattern.iter().enumerate() {
-            x[(row, j)] -= values[(i, j)];
+    /// The supernodes a forward substitution must visit when only the rows `rows`
+    /// (elimination order) of the right-hand side are nonzero (for both L and Uᵀ, which share
+    /// the supernodal structure).
+    pub fn active_supernodes(&self, rows: impl IntoIterator<Item = usize>) -> Option<Vec<bool>> {
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) => Some(supernodal_solve::active_supernodes(sn, rows)),
+            _ => None,
         }
     }
 }

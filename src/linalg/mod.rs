@@ -8,19 +8,24 @@ pub mod frontal_lu;
 pub mod lagrange;
 pub mod multifrontal;
 pub mod ordering;
+pub mod polynomial;
+pub mod split_hermitian;
+pub mod supernodal_solve;
 
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::Solve;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::traits::ComplexField;
 use faer::{Conj, Mat, Par, Side};
 use std::sync::Arc;
+use supernodal_solve::Scalar;
 
 /// Accumulates matrix entries; repeated (row, col) entries are summed.
 pub struct TripletBuilder<T> {
@@ -206,11 +211,26 @@ pub struct CholeskySolver<T> {
     values: Vec<T>,
 }
 
-impl<T: ComplexField + Copy + Send + Sync> CholeskySolver<T> {
+impl<T: ComplexField + Copy + Send + Sync + Scalar> CholeskySolver<T> {
     /// Analyses and factors the matrix (entries with row ≥ col are read). With `coords` (one 3D
     /// position per unknown) the elimination order is geometric nested dissection, otherwise AMD.
     pub fn new(lower: &SparseColMat<usize, T>, coords: Option<&[[f64; 3]]>) -> Result<Self> {
         CholeskyPattern::new(lower.symbolic(), coords)?.factor(lower)
+    }
+
+    /// Number of unknowns.
+    pub fn dim(&self) -> usize {
+        self.symbolic.nrows()
+    }
+
+    /// Stored values of the factor L.
+    pub fn factor_len(&self) -> usize {
+        self.values.len()
+    }
+
+    /// The elimination order: `order[k]` is the unknown eliminated k-th (`None`: the identity).
+    pub fn elimination_order(&self) -> Option<&[usize]> {
+        self.symbolic.perm().map(|p| p.arrays().0)
     }
 
     /// Solves for every column of `rhs` in place.
@@ -218,9 +238,16 @@ impl<T: ComplexField + Copy + Send + Sync> CholeskySolver<T> {
         self.solve_in_place_with(rhs, faer::get_global_parallelism())
     }
 
-    /// [`Self::solve_in_place`] with the given parallelism (`Par::Seq` is faster for a few
-    /// right-hand sides, whose triangular solves are memory-bound).
+    /// [`Self::solve_in_place`] with the given parallelism for many right-hand sides; up to 4
+    /// columns use the sequential row-interleaved solve ([`supernodal_solve`]).
     pub fn solve_in_place_with(&self, rhs: &mut Mat<T>, par: Par) -> Result<()> {
+        match rhs.ncols() {
+            1 => return self.solve_columns::<1>(rhs),
+            2 => return self.solve_columns::<2>(rhs),
+            3 => return self.solve_columns::<3>(rhs),
+            4 => return self.solve_columns::<4>(rhs),
+            _ => {}
+        }
         let mut mem = MemBuffer::try_new(self.symbolic.solve_in_place_scratch::<T>(rhs.ncols(), par))
             .map_err(|_| Error::Internal("out of memory for the solve workspace".into()))?;
         LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
@@ -229,6 +256,55 @@ impl<T: ComplexField + Copy + Send + Sync> CholeskySolver<T> {
             par,
             MemStack::new(&mut mem),
         );
+        Ok(())
+    }
+
+    /// Solves `K ≤ 4` columns through the row-interleaved kernels.
+    fn solve_columns<const K: usize>(&self, rhs: &mut Mat<T>) -> Result<()> {
+        let n = self.dim();
+        let order = self.elimination_order();
+        let original = |k: usize| order.map_or(k, |o| o[k]);
+        let mut x: Vec<[T; K]> = (0..n).map(|k| std::array::from_fn(|c| rhs[(original(k), c)])).collect();
+        self.solve_permuted_rows(&mut x, &mut Vec::new(), None)?;
+        for (k, row) in x.iter().enumerate() {
+            for (c, &v) in row.iter().enumerate() {
+                rhs[(original(k), c)] = v;
+            }
+        }
+        Ok(())
+    }
+
+    /// The supernodes a solve must visit in its forward substitution when only the rows
+    /// `rows` (elimination order) of the right-hand side are nonzero.
+    pub fn active_supernodes(&self, rows: impl IntoIterator<Item = usize>) -> Option<Vec<bool>> {
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) => Some(supernodal_solve::active_supernodes(sn, rows)),
+            _ => None,
+        }
+    }
+
+    /// Solves `A X = B` in place for K right-hand sides stored row-interleaved and already in
+    /// elimination order (row k holds unknown `elimination_order()[k]`). `scratch` is reused.
+    /// `active` (from [`Self::active_supernodes`]) skips supernodes a sparse right-hand side
+    /// does not reach.
+    pub fn solve_permuted_rows<const K: usize>(
+        &self,
+        x: &mut [[T; K]],
+        scratch: &mut Vec<[T; K]>,
+        active: Option<&[bool]>,
+    ) -> Result<()> {
+        if x.len() != self.dim() {
+            return Err(Error::Internal(format!("{} rows given to a solve of {} unknowns", x.len(), self.dim())));
+        }
+        if self.dim() == 0 {
+            return Ok(());
+        }
+        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
+            return Err(Error::Internal("the Cholesky factor is not supernodal".into()));
+        };
+        let factor = supernodal_solve::Factor { sn, values: &self.values, blocks: 1, which: 0, unit_diagonal: false };
+        factor.forward(x, scratch, active);
+        factor.backward_transposed(true, x, scratch);
         Ok(())
     }
 }
@@ -287,16 +363,60 @@ impl LuSolver {
 
     /// Solves for every column of `rhs` in place.
     pub fn solve_in_place(&self, rhs: &mut Mat<f64>) -> Result<()> {
+        self.solve_in_place_maybe_transposed(rhs, false)
+    }
+
+    /// Solves `Aᵀ X = B` for every column of `rhs` in place.
+    pub fn solve_transpose_in_place(&self, rhs: &mut Mat<f64>) -> Result<()> {
+        self.solve_in_place_maybe_transposed(rhs, true)
+    }
+
+    fn solve_in_place_maybe_transposed(&self, rhs: &mut Mat<f64>, transpose: bool) -> Result<()> {
         if let Some(lu) = &self.frontal {
             let mut x = rhs.clone();
-            lu.solve_in_place(&mut x)?;
-            if backward_error(self.matrix.as_ref(), &x, rhs) <= LU_BACKWARD_ERROR {
+            lu.solve_in_place(&mut x, transpose)?;
+            if backward_error(self.matrix.as_ref(), &x, rhs, transpose) <= LU_BACKWARD_ERROR {
                 *rhs = x;
                 return Ok(());
             }
         }
         let lu = self.matrix.sp_lu().map_err(|e| Error::Numerical(format!("the system matrix is singular ({e:?})")))?;
-        lu.solve_in_place(rhs.as_mut());
+        if transpose {
+            lu.solve_transpose_in_place(rhs.as_mut());
+        } else {
+            lu.solve_in_place(rhs.as_mut());
+        }
+        Ok(())
+    }
+
+    /// The unpivoted multifrontal factors, when they exist (the caller must check the backward
+    /// error of solves made with them: [`Self::backward_error_rows`]).
+    pub fn frontal(&self) -> Option<&frontal_lu::SparseLu> {
+        self.frontal.as_ref()
+    }
+
+    /// Normwise backward error (as [`LU_BACKWARD_ERROR`] measures it) of `x` as a solution of
+    /// `A x = b` (`Aᵀ x = b` when `transpose`), for row-interleaved K columns in the original
+    /// numbering. True when it is small enough to accept the solve.
+    /// `inverse[i]` is the row of `x` and `b` holding unknown i (`None`: row i).
+    pub fn accepts_rows<const K: usize>(
+        &self,
+        x: &[[f64; K]],
+        b: &[[f64; K]],
+        transpose: bool,
+        inverse: Option<&[usize]>,
+    ) -> bool {
+        backward_error_rows(self.matrix.as_ref(), x, b, transpose, inverse) <= LU_BACKWARD_ERROR
+    }
+
+    /// Solves with faer's pivoted LU (the fallback when the unpivoted factors are unstable).
+    pub fn solve_pivoted_in_place(&self, rhs: &mut Mat<f64>, transpose: bool) -> Result<()> {
+        let lu = self.matrix.sp_lu().map_err(|e| Error::Numerical(format!("the system matrix is singular ({e:?})")))?;
+        if transpose {
+            lu.solve_transpose_in_place(rhs.as_mut());
+        } else {
+            lu.solve_in_place(rhs.as_mut());
+        }
         Ok(())
     }
 }
@@ -322,34 +442,53 @@ fn symmetric_lower_pattern(a: SparseColMatRef<'_, usize, f64>) -> SymbolicSparse
     SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx)
 }
 
-/// Largest normwise backward error over the columns of `x` as a solution of `A x = b`.
-fn backward_error(a: SparseColMatRef<'_, usize, f64>, x: &Mat<f64>, b: &Mat<f64>) -> f64 {
-    let n = a.nrows();
-    let mut row_sums = vec![0.0f64; n];
-    for j in 0..a.ncols() {
-        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
-            row_sums[i] += v.abs();
-        }
-    }
-    let a_norm = row_sums.iter().fold(0.0f64, |m, &v| m.max(v));
+/// Largest normwise backward error over the columns of `x` as a solution of `A x = b` (`Aᵀ x =
+/// b` when `transpose`).
+fn backward_error(a: SparseColMatRef<'_, usize, f64>, x: &Mat<f64>, b: &Mat<f64>, transpose: bool) -> f64 {
     (0..x.ncols())
         .map(|c| {
-            let mut r: Vec<f64> = (0..n).map(|i| -b[(i, c)]).collect();
-            for j in 0..a.ncols() {
-                for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
-                    r[i] += v * x[(j, c)];
-                }
+            let xr: Vec<[f64; 1]> = x.col_as_slice(c).iter().map(|&v| [v]).collect();
+            let br: Vec<[f64; 1]> = b.col_as_slice(c).iter().map(|&v| [v]).collect();
+            backward_error_rows(a, &xr, &br, transpose, None)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// [`backward_error`] for row-interleaved columns: the largest over the K columns of
+/// `‖Ax − b‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)` (with Aᵀ and ‖Aᵀ‖∞ when `transpose`); NaN gives +∞.
+/// Unknown i is row `inverse[i]` of `x` and `b` (row i without `inverse`).
+fn backward_error_rows<const K: usize>(
+    a: SparseColMatRef<'_, usize, f64>,
+    x: &[[f64; K]],
+    b: &[[f64; K]],
+    transpose: bool,
+    inverse: Option<&[usize]>,
+) -> f64 {
+    let n = a.nrows();
+    let row = |i: usize| inverse.map_or(i, |p| p[i]);
+    let mut sums = vec![0.0f64; n];
+    let mut r: Vec<[f64; K]> = b.iter().map(|row| row.map(|v| -v)).collect();
+    for j in 0..a.ncols() {
+        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+            // A[i, j] = v: (A x)_i += v x_j, (Aᵀ x)_j += v x_i.
+            let (out, input) = if transpose { (row(j), row(i)) } else { (row(i), row(j)) };
+            sums[out] += v.abs();
+            for c in 0..K {
+                r[out][c] += v * x[input][c];
             }
-            let inf = |v: &mut dyn Iterator<Item = f64>| {
-                v.fold(0.0f64, |m, e| if e.is_nan() { f64::INFINITY } else { m.max(e.abs()) })
-            };
-            let (r_norm, x_norm, b_norm) = (
-                inf(&mut r.into_iter()),
-                inf(&mut x.col_as_slice(c).iter().copied()),
-                inf(&mut b.col_as_slice(c).iter().copied()),
-            );
+        }
+    }
+    let a_norm = sums.iter().fold(0.0f64, |m, &v| m.max(v));
+    let inf = |m: f64, e: f64| if e.is_nan() { f64::INFINITY } else { m.max(e.abs()) };
+    (0..K)
+        .map(|c| {
+            let r_norm = r.iter().fold(0.0, |m, row| inf(m, row[c]));
+            let x_norm = x.iter().fold(0.0, |m, row| inf(m, row[c]));
+            let b_norm = b.iter().fold(0.0, |m, row| inf(m, row[c]));
             let scale = a_norm * x_norm + b_norm;
-            if scale == 0.0 {
+            if r_norm.is_infinite() || x_norm.is_infinite() {
+                f64::INFINITY
+            } else if scale == 0.0 {
                 0.0
             } else {
                 r_norm / scale

@@ -15,6 +15,8 @@
 //!
 //! faer's own numeric factorization is left-looking and sequential over supernodes; this one
 //! does the same arithmetic (the same L up to rounding) with both cores busy.
+//! [`run_split`] stops after a given column and returns the dense Schur complement of the
+//! remaining ones ([`super::split_hermitian`] factors that block in complex arithmetic).
 //! Cost: the factorization's flops, plus O(Σ_s |P_s|²) memory traffic for the extend-adds.
 
 use super::frontal_lu;
@@ -75,6 +77,20 @@ pub(crate) fn run<T: ComplexField + Copy + Send + Sync>(
     entries: Entries<'_, T>,
     values: &mut [T],
 ) -> Result<()> {
+    run_split(symbolic, entries, values, symbolic.nrows()).map(|_| ())
+}
+
+/// Partial multifrontal Cholesky: eliminates the (permuted) columns `0..split` only and
+/// returns the Schur complement of the trailing `n − split` unknowns, `A₂₂ − L₂₁L₂₁ᴴ`, without
+/// `A₂₂` itself (those entries are not read), as a dense column-major lower triangle. The
+/// factor blocks of supernodes that lie entirely at or after `split` are left untouched, and a
+/// supernode straddling `split` holds only its leading columns.
+pub(crate) fn run_split<T: ComplexField + Copy + Send + Sync>(
+    symbolic: &SymbolicCholesky<usize>,
+    entries: Entries<'_, T>,
+    values: &mut [T],
+    split: usize,
+) -> Result<Vec<T>> {
     let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
         return Err(Error::Internal("the multifrontal factorization needs a supernodal symbolic analysis".into()));
     };
@@ -104,6 +120,8 @@ pub(crate) fn run<T: ComplexField + Copy + Send + Sync>(
         pending: tree.child_counts().into_iter().map(AtomicU32::new).collect(),
         failed: AtomicBool::new(false),
         error: Mutex::new(None),
+        split,
+        schur: Mutex::new(vec![T::zero_impl(); (sn.nrows() - split.min(sn.nrows())).pow(2)]),
     };
     let tasks = tree.task_roots(tree.total_work() * TASK_FRACTION);
     rayon::scope(|scope| {
@@ -114,7 +132,7 @@ pub(crate) fn run<T: ComplexField + Copy + Send + Sync>(
     });
     match cx.error.into_inner().unwrap_or_else(|e| e.into_inner()) {
         Some(e) => Err(e),
-        None => Ok(()),
+        None => Ok(cx.schur.into_inner().unwrap_or_else(|e| e.into_inner())),
     }
 }
 
@@ -131,6 +149,10 @@ struct Context<'a, T> {
     pending: Vec<AtomicU32>,
     failed: AtomicBool,
     error: Mutex<Option<Error>>,
+    /// Columns from `split` on are not eliminated; updates onto them go to `schur`.
+    split: usize,
+    /// Dense Schur complement of the columns `split..n` (column-major, lower triangle).
+    schur: Mutex<Vec<T>>,
 }
 
 fn lock<U>(m: &Mutex<U>) -> std::sync::MutexGuard<'_, U> {
@@ -227,6 +249,12 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(
     let pattern = sn.supernode(s as usize).pattern();
     let (w, m) = (l - f, pattern.len());
     let ld = w + m;
+    if f >= cx.split {
+        // Past the split: the children's updates went to the Schur complement.
+        return Ok(());
+    }
+    // Columns eliminated here (fewer than w when the supernode straddles the split).
+    let eliminated = l.min(cx.split) - f;
     let Some(block) = lock(&cx.factor[s as usize]).take() else {
         return Err(Error::Internal(format!("supernode {s} factored twice")));
     };
@@ -236,12 +264,12 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(
     let children = cx.tree.children(s).iter().filter_map(|&c| lock(&cx.updates[c as usize]).take().map(|u| (c, u)));
     match cx.entries {
         Entries::Hermitian(a) => {
-            assemble_columns(block, ld, f, l, pattern, a);
+            assemble_columns(block, ld, f, f + eliminated, l, pattern, a);
             for (c, child) in children {
                 extend_add(block, &mut update, ld, f, l, pattern, &child, cx.sn.supernode(c as usize).pattern());
                 pool.give(child);
             }
-            partial_cholesky(block, &mut update, w, m, par).map_err(|index| {
+            partial_cholesky(block, &mut update, eliminated, w, m, par).map_err(|index| {
                 Error::Numerical(format!(
                     "the system matrix is not positive definite (pivot {} of {}); the mesh may have extremely bad triangles",
                     f + index,
@@ -251,7 +279,7 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(
         }
         Entries::Lu { lower, upper_t } => {
             let (l_block, u_block) = block.split_at_mut(ld * w);
-            assemble_columns(l_block, ld, f, l, pattern, lower);
+            assemble_columns(l_block, ld, f, l, l, pattern, lower);
             frontal_lu::assemble_upper(l_block, u_block, ld, f, l, pattern, upper_t);
             for (c, child) in children {
                 frontal_lu::extend_add_full(
@@ -276,7 +304,10 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(
             })?;
         }
     }
-    if m > 0 {
+    if eliminated < w || pattern.first().is_some_and(|&i| i >= cx.split) {
+        add_to_schur(cx, block, &update, eliminated, f, l, pattern);
+        pool.give(update);
+    } else if m > 0 {
         *lock(&cx.updates[s as usize]) = Some(update);
     } else {
         pool.give(update);
@@ -284,16 +315,47 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(
     Ok(())
 }
 
-/// Adds the entries of A in columns `f..l` into the front's factor block.
+/// Adds the trailing part of a front (front rows and columns from `eliminated` on, all at or
+/// after the split) to the dense Schur complement: columns `eliminated..w` of the factor block
+/// and the update matrix.
+fn add_to_schur<T: ComplexField + Copy + Send + Sync>(
+    cx: &Context<'_, T>,
+    block: &[T],
+    update: &[T],
+    eliminated: usize,
+    f: usize,
+    l: usize,
+    pattern: &[usize],
+) {
+    let (w, m) = (l - f, pattern.len());
+    let ld = w + m;
+    let nb = cx.sn.nrows() - cx.split;
+    let global = |k: usize| if k < w { f + k } else { pattern[k - w] } - cx.split;
+    let rows: Vec<usize> = (eliminated..ld).map(global).collect();
+    let mut schur = lock(&cx.schur);
+    for (c, &j) in rows.iter().enumerate() {
+        let k = eliminated + c;
+        let source =
+            if k < w { &block[k * ld + k..(k + 1) * ld] } else { &update[(k - w) * m + (k - w)..(k - w + 1) * m] };
+        let column = &mut schur[j * nb..(j + 1) * nb];
+        for (&i, &v) in rows[c..].iter().zip(source) {
+            column[i] += v;
+        }
+    }
+}
+
+/// Adds the entries of A in columns `f..end` (of the supernode `f..l`) into the front's factor
+/// block.
 fn assemble_columns<T: ComplexField + Copy + Send + Sync>(
     block: &mut [T],
     ld: usize,
     f: usize,
+    end: usize,
     l: usize,
     pattern: &[usize],
     a: &PermutedLower<T>,
 ) {
-    for j in f..l {
+    for j in f..end {
         let column = &mut block[(j - f) * ld..(j - f + 1) * ld];
         for (&i, &v) in a.rows_of(j).iter().zip(a.values_of(j)) {
             let i = i as usize;
@@ -357,34 +419,57 @@ fn extend_add<T: ComplexField + Copy + Send + Sync>(
 
 /// Dense partial Cholesky of a front `[F₁₁; F₂₁]` (`w` columns, stored in `block` with leading
 /// dimension `w + m`) and its update block `F₂₂` (`m × m`): `F₁₁ = L₁₁L₁₁ᴴ`,
-/// `L₂₁ = F₂₁L₁₁⁻ᴴ`, `F₂₂ ← F₂₂ − L₂₁L₂₁ᴴ` (lower triangle). Returns the failing pivot's
-/// index on a non-positive pivot.
+/// `L₂₁ = F₂₁L₁₁⁻ᴴ`, `F₂₂ ← F₂₂ − L₂₁L₂₁ᴴ` (lower triangle), eliminating only the first `e ≤ w`
+/// columns: then the columns `e..w` of the block are updated like `F₂₂`. Returns the failing
+/// pivot's index on a non-positive pivot.
 fn partial_cholesky<T: ComplexField + Copy + Send + Sync>(
     block: &mut [T],
     update: &mut [T],
+    e: usize,
     w: usize,
     m: usize,
     par: Par,
 ) -> std::result::Result<(), usize> {
     let mut front = MatMut::from_column_major_slice_mut(block, w + m, w);
-    let (mut top, mut bottom) = front.rb_mut().split_at_row_mut(w);
-    let mut mem = MemBuffer::new(cholesky_in_place_scratch::<T>(w, par, Default::default()));
+    let (left, mut right) = front.rb_mut().split_at_col_mut(e);
+    let (mut top, mut bottom) = left.split_at_row_mut(e);
+    let mut mem = MemBuffer::new(cholesky_in_place_scratch::<T>(e, par, Default::default()));
     match cholesky_in_place(top.rb_mut(), Default::default(), par, MemStack::new(&mut mem), Default::default()) {
         Ok(_) => {}
         Err(LltError::NonPositivePivot { index }) => return Err(index),
     }
-    if m == 0 {
+    if m + w == e {
         return Ok(());
     }
     solve_lower_triangular_in_place(top.rb().conjugate(), bottom.rb_mut().transpose_mut(), par);
+    if e < w {
+        // Columns e..w of the block, rows e..w+m: minus (rows of L₂₁) × (its first w − e rows)ᴴ.
+        let target = right.rb_mut().subrows_mut(e, w + m - e);
+        let leading = bottom.rb().subrows(0, w - e);
+        matmul(
+            target,
+            BlockStructure::Rectangular,
+            Accum::Add,
+            bottom.rb(),
+            BlockStructure::Rectangular,
+            leading.adjoint(),
+            BlockStructure::Rectangular,
+            T::from_f64_impl(-1.0),
+            par,
+        );
+    }
+    if m == 0 {
+        return Ok(());
+    }
+    let below = bottom.rb().subrows(w - e, m);
     let u = MatMut::from_column_major_slice_mut(update, m, m);
     matmul(
         u,
         BlockStructure::TriangularLower,
         Accum::Add,
-        bottom.rb(),
+        below,
         BlockStructure::Rectangular,
-        bottom.rb().adjoint(),
+        below.adjoint(),
         BlockStructure::Rectangular,
         T::from_f64_impl(-1.0),
         par,
@@ -402,6 +487,16 @@ pub(crate) struct PermutedLower<T> {
 
 impl<T: ComplexField + Copy + Send + Sync> PermutedLower<T> {
     fn new(lower: SparseColMatRef<'_, usize, T>, inverse: Option<&[usize]>) -> Self {
+        Self::mapped(lower, inverse, |v| v)
+    }
+
+    /// [`Self::new`] of the matrix with entries `map(a_ij)` (`map` must commute with
+    /// conjugation, as taking the real part does).
+    pub(crate) fn mapped<S: Copy>(
+        lower: SparseColMatRef<'_, usize, S>,
+        inverse: Option<&[usize]>,
+        map: impl Fn(S) -> T,
+    ) -> Self {
         let n = lower.ncols();
         let new = |i: usize| inverse.map_or(i, |p| p[i]);
         // Column of each lower entry after permutation: the smaller of the two new indices.
@@ -426,8 +521,8 @@ impl<T: ComplexField + Copy + Send + Sync> PermutedLower<T> {
                 if *i < j {
                     continue;
                 }
-                let pi = new(*i);
-                let (r, c, v) = if pi >= pj { (pi, pj, *v) } else { (pj, pi, T::conj_impl(v)) };
+                let (pi, v) = (new(*i), map(*v));
+                let (r, c, v) = if pi >= pj { (pi, pj, v) } else { (pj, pi, T::conj_impl(&v)) };
                 rows[fill[c]] = r as u32;
                 values[fill[c]] = v;
                 fill[c] += 1;

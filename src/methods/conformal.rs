@@ -16,7 +16,8 @@
 
 use crate::error::{Error, Result};
 use crate::geometry::distance;
-use crate::linalg::{lower_from_entries, require_finite, CholeskySolver, Unknowns};
+use crate::linalg::split_hermitian::HermitianSolver;
+use crate::linalg::{lower_from_entries, require_finite, Unknowns};
 use crate::mesh::{TriMesh, NONE};
 use crate::progress::Progress;
 use faer::sparse::SparseColMat;
@@ -43,7 +44,7 @@ pub fn natural_conformal_map_with_progress(
     let mut system = ConformalSystem::new(mesh, pins)?;
     progress.report(0.3)?;
     let coords = system.unknowns.positions(mesh);
-    CholeskySolver::new(&system.matrix, Some(&coords))?.solve_in_place(&mut system.rhs)?;
+    HermitianSolver::new(&system.matrix, &coords)?.solve_in_place(&mut system.rhs)?;
     progress.report(0.95)?;
     let uv = system.uv(mesh)?;
     progress.report(1.0)?;

@@ -16,6 +16,13 @@ use crate::mesh::{TriMesh, NONE};
 use faer::Mat;
 use rayon::prelude::*;
 
+/// Reusable buffers of [`FixedSystem::solve_permuted_rows`].
+#[derive(Default)]
+pub struct RowScratch {
+    buffer: Vec<[f64; 2]>,
+    rhs: Vec<[f64; 2]>,
+}
+
 /// The factorization of `A`.
 enum Factor {
     Cholesky(CholeskySolver<f64>),
@@ -59,6 +66,14 @@ impl FixedSystem {
         Ok(FixedSystem { unknowns, coupling, factor })
     }
 
+    /// Values stored by the factorization (L, or L and U).
+    pub fn factor_len(&self) -> usize {
+        match &self.factor {
+            Factor::Cholesky(c) => c.factor_len(),
+            Factor::Lu(lu) => lu.frontal().map_or(0, |f| f.factor_len()),
+        }
+    }
+
     /// Number of free vertices.
     pub fn count(&self) -> usize {
         self.unknowns.count()
@@ -83,12 +98,82 @@ impl FixedSystem {
     /// Replaces `rhs` (any number of columns) by `A⁻¹ rhs`.
     pub fn solve_in_place(&self, rhs: &mut Mat<f64>) -> Result<()> {
         match &self.factor {
-            // Few columns: sequential triangular solves beat rayon's per-supernode overhead.
-            Factor::Cholesky(c) if rhs.ncols() <= 4 => c.solve_in_place_with(rhs, faer::Par::Seq)?,
             Factor::Cholesky(c) => c.solve_in_place(rhs)?,
             Factor::Lu(lu) => lu.solve_in_place(rhs)?,
         }
         Ok(())
+    }
+
+    /// Replaces `rhs` by `A⁻ᵀ rhs` (the adjoint solve).
+    pub fn solve_transpose_in_place(&self, rhs: &mut Mat<f64>) -> Result<()> {
+        match &self.factor {
+            Factor::Cholesky(c) => c.solve_in_place(rhs)?,
+            Factor::Lu(lu) => lu.solve_transpose_in_place(rhs)?,
+        }
+        Ok(())
+    }
+
+    /// The elimination order of the factor: `order[k]` is the free unknown (row of `A`) held
+    /// by row k of the permuted solves.
+    pub fn elimination_order(&self) -> Vec<usize> {
+        match &self.factor {
+            Factor::Cholesky(c) => c.elimination_order().map_or_else(|| (0..self.count()).collect(), |o| o.to_vec()),
+            Factor::Lu(lu) => match lu.frontal() {
+                Some(f) => f.elimination_order().to_vec(),
+                None => (0..self.count()).collect(),
+            },
+        }
+    }
+
+    /// The supernodes the forward substitution must visit for right-hand sides nonzero only in
+    /// the permuted rows `rows` (`None` when the factor has no supernodal structure).
+    pub fn active_supernodes(&self, rows: impl IntoIterator<Item = usize>) -> Option<Vec<bool>> {
+        match &self.factor {
+            Factor::Cholesky(c) => c.active_supernodes(rows),
+            Factor::Lu(lu) => lu.frontal().and_then(|f| f.active_supernodes(rows)),
+        }
+    }
+
+    /// Solves `A X = B` (`Aᵀ X = B` when `transpose`) for two row-interleaved columns in place,
+    /// rows in [`Self::elimination_order`] (`inverse` is that order's inverse). No allocation
+    /// once `scratch` has grown, except for the LU's rare pivoted fallback. `active` (from
+    /// [`Self::active_supernodes`]) restricts the forward substitution to a sparse right-hand
+    /// side's reach.
+    pub fn solve_permuted_rows(
+        &self,
+        x: &mut [[f64; 2]],
+        transpose: bool,
+        inverse: &[usize],
+        scratch: &mut RowScratch,
+        active: Option<&[bool]>,
+    ) -> Result<()> {
+        match &self.factor {
+            Factor::Cholesky(c) => c.solve_permuted_rows(x, &mut scratch.buffer, active)?,
+            Factor::Lu(lu) => {
+                let accepted = match lu.frontal() {
+                    Some(f) => {
+                        scratch.rhs.clear();
+                        scratch.rhs.extend_from_slice(x);
+                        f.solve_permuted_rows(x, transpose, &mut scratch.buffer, active)?;
+                        lu.accepts_rows(x, &scratch.rhs, transpose, Some(inverse))
+                    }
+                    None => {
+                        scratch.rhs.clear();
+                        scratch.rhs.extend_from_slice(x);
+                        false
+                    }
+                };
+                if !accepted {
+                    // Unstable unpivoted factors: faer's pivoted LU in the original numbering.
+                    let mut m = Mat::<f64>::from_fn(self.count(), 2, |i, c| scratch.rhs[inverse[i]][c]);
+                    lu.solve_pivoted_in_place(&mut m, transpose)?;
+                    for (i, &k) in inverse.iter().enumerate() {
+                        x[k] = [m[(i, 0)], m[(i, 1)]];
+                    }
+                }
+            }
+        }
+        require_finite(x.iter().flatten().copied(), "fixed-boundary")
     }
 
     /// Solves for the free vertices and returns one UV per vertex of `fixed_uv` (the fixed ones

@@ -12,16 +12,25 @@
 //! The boundary is the outer (longest) loop, in the order of [`TriMesh::boundary_loops`]
 //! (counter-clockwise, surface on the left); other loops are holes, filled by cones as in the
 //! fixed-boundary maps. Cost: one factorization (Cholesky when μ = 0, LU otherwise); a solve is
-//! O(nnz(L)) and allocation of two n-vectors. `solve` takes `&self`: concurrent solves on one
-//! editor are safe.
+//! one pass over the coupling `K`, one forward and one backward substitution with u and v
+//! together (row-interleaved, [`crate::linalg::supernodal_solve`]) and one pass writing the
+//! UVs, with buffers taken from a pool so a re-solve allocates nothing. `solve` takes `&self`:
+//! concurrent solves on one editor are safe (each takes its own buffers).
+//!
+//! [`BoundaryEditor::boundary_gradient`] is the adjoint of the map: given ∂E/∂u for every vertex
+//! it returns ∂E/∂u_b for every boundary vertex, `g_b + Kᵀ A⁻ᵀ g_f` — the impulse responses
+//! `∂u_i/∂u_p = b^p(i)` summed against the gradient without forming them (one transposed solve),
+//! which is what the boundary optimization (§5.2) descends on.
 
 use super::barycentric::Weights;
 use super::fixed_system::FixedSystem;
+use super::fixed_system::RowScratch;
 use crate::error::{Error, Result};
 use crate::mesh::{fill::fill_holes, TriMesh, NONE};
 use crate::progress::Progress;
 use faer::Mat;
 use rayon::prelude::*;
+use std::sync::Mutex;
 
 /// A factored intrinsic map whose boundary can be moved and re-solved quickly.
 pub struct BoundaryEditor {
@@ -33,6 +42,23 @@ pub struct BoundaryEditor {
     work_vertex_count: usize,
     referenced: Vec<bool>,
     system: FixedSystem,
+    /// `(permuted row, boundary index, w)`: the coupling `K` in the factor's elimination order.
+    coupling_rows: Vec<(u32, u32, f64)>,
+    /// Vertex (of the filled mesh) of each permuted row.
+    row_vertex: Vec<u32>,
+    /// Permuted row of each free unknown (inverse of the elimination order).
+    inverse_order: Vec<usize>,
+    /// Supernodes reached by right-hand sides `K u_b` (nonzero only next to the boundary).
+    active: Option<Vec<bool>>,
+    /// Buffers of finished solves, reused by the next ones.
+    pool: Mutex<Vec<Workspace>>,
+}
+
+/// Buffers of one solve.
+#[derive(Default)]
+struct Workspace {
+    rows: Vec<[f64; 2]>,
+    scratch: RowScratch,
 }
 
 /// The Green-function basis: `values[i * vertex_count + v]` is `b^i(v)`, the weight of
@@ -91,12 +117,38 @@ impl BoundaryEditor {
         let system = FixedSystem::new(work, Weights::Intrinsic { lambda, mu }, |v| is_fixed[v as usize])?;
         progress.report(1.0)?;
         let referenced = (0..mesh.vertex_count() as u32).map(|v| mesh.is_referenced(v)).collect();
+        let order = system.elimination_order();
+        let mut inverse_order = vec![0usize; order.len()];
+        for (k, &r) in order.iter().enumerate() {
+            inverse_order[r] = k;
+        }
+        let row_vertex = order.iter().map(|&r| system.unknowns.vertex[r]).collect();
+        let mut boundary_index = vec![NONE; work.vertex_count()];
+        for (i, &v) in boundary.iter().enumerate() {
+            boundary_index[v as usize] = i as u32;
+        }
+        let coupling_rows: Vec<(u32, u32, f64)> = system
+            .coupling()
+            .iter()
+            .map(|&(r, j, w)| (inverse_order[r as usize] as u32, boundary_index[j as usize], w))
+            .collect();
+        let active = system.active_supernodes(coupling_rows.iter().map(|c| c.0 as usize));
+        if std::env::var("UVFLAT_SN_STATS").is_ok() {
+            if let Some(a) = &active {
+                eprintln!("active supernodes {} of {}", a.iter().filter(|&&x| x).count(), a.len());
+            }
+        }
         Ok(BoundaryEditor {
             boundary,
             vertex_count: mesh.vertex_count(),
             work_vertex_count: work.vertex_count(),
             referenced,
             system,
+            coupling_rows,
+            row_vertex,
+            inverse_order,
+            active,
+            pool: Mutex::new(Vec::new()),
         })
     }
 
@@ -105,12 +157,18 @@ impl BoundaryEditor {
         &self.boundary
     }
 
+    /// Values stored by the editor's factorization (L for Cholesky, L and U for LU): a re-solve
+    /// reads each of them twice at most.
+    pub fn factor_len(&self) -> usize {
+        self.system.factor_len()
+    }
+
     /// Number of vertices of the mesh (length of a solution).
     pub fn vertex_count(&self) -> usize {
         self.vertex_count
     }
 
-    fn fixed_uv(&self, boundary_uv: &[[f64; 2]]) -> Result<Vec<[f64; 2]>> {
+    fn check_boundary(&self, boundary_uv: &[[f64; 2]]) -> Result<()> {
         if boundary_uv.len() != self.boundary.len() {
             return Err(Error::InvalidArgument(format!(
                 "{} boundary positions given for a boundary of {} vertices",
@@ -121,20 +179,99 @@ impl BoundaryEditor {
         if let Some(i) = boundary_uv.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
             return Err(Error::InvalidArgument(format!("boundary position {i} is not finite")));
         }
-        let mut fixed = vec![[f64::NAN; 2]; self.work_vertex_count];
-        for (&v, &p) in self.boundary.iter().zip(boundary_uv) {
-            fixed[v as usize] = p;
-        }
-        Ok(fixed)
+        Ok(())
+    }
+
+    fn take_workspace(&self) -> Workspace {
+        let mut ws = self.pool.lock().unwrap_or_else(|e| e.into_inner()).pop().unwrap_or_default();
+        ws.rows.clear();
+        ws.rows.resize(self.row_vertex.len(), [0.0; 2]);
+        ws
+    }
+
+    fn give_workspace(&self, ws: Workspace) {
+        self.pool.lock().unwrap_or_else(|e| e.into_inner()).push(ws);
     }
 
     /// The map for new boundary positions (one per boundary vertex, in
     /// [`Self::boundary_vertices`] order): one UV per mesh vertex, NaN for unreferenced ones.
     pub fn solve(&self, boundary_uv: &[[f64; 2]]) -> Result<Vec<[f64; 2]>> {
-        let fixed = self.fixed_uv(boundary_uv)?;
-        let mut uv = self.system.solve(&fixed)?;
-        uv.truncate(self.vertex_count);
+        let mut uv = vec![[0.0; 2]; self.vertex_count];
+        self.solve_into(boundary_uv, &mut uv)?;
         Ok(uv)
+    }
+
+    /// [`Self::solve`] into a caller-owned array of [`Self::vertex_count`] UVs (left unchanged
+    /// on failure). Allocation-free after the first solves.
+    pub fn solve_into(&self, boundary_uv: &[[f64; 2]], uv: &mut [[f64; 2]]) -> Result<()> {
+        self.check_boundary(boundary_uv)?;
+        if uv.len() != self.vertex_count {
+            return Err(Error::InvalidArgument(format!(
+                "output holds {} UVs for a mesh of {} vertices",
+                uv.len(),
+                self.vertex_count
+            )));
+        }
+        let mut ws = self.take_workspace();
+        for &(r, i, w) in &self.coupling_rows {
+            let (p, x) = (boundary_uv[i as usize], &mut ws.rows[r as usize]);
+            x[0] += w * p[0];
+            x[1] += w * p[1];
+        }
+        let solved = self.system.solve_permuted_rows(
+            &mut ws.rows,
+            false,
+            &self.inverse_order,
+            &mut ws.scratch,
+            self.active.as_deref(),
+        );
+        if solved.is_ok() {
+            for (p, &referenced) in uv.iter_mut().zip(&self.referenced) {
+                if !referenced {
+                    *p = [f64::NAN; 2];
+                }
+            }
+            for (&v, &x) in self.row_vertex.iter().zip(&ws.rows) {
+                if (v as usize) < self.vertex_count {
+                    uv[v as usize] = x;
+                }
+            }
+            for (&v, &p) in self.boundary.iter().zip(boundary_uv) {
+                uv[v as usize] = p;
+            }
+        }
+        self.give_workspace(ws);
+        solved
+    }
+
+    /// The adjoint of [`Self::solve`]: for `uv_gradient` = ∂E/∂u at every mesh vertex (entries
+    /// of unreferenced vertices are ignored), the gradient of E with respect to the boundary
+    /// positions, `g_b + Kᵀ A⁻ᵀ g_f` (Desbrun et al. 2002 §5.2: the impulse responses
+    /// `∂u_i/∂u_p^boundary` applied to the gradient by one transposed solve).
+    pub fn boundary_gradient(&self, uv_gradient: &[[f64; 2]]) -> Result<Vec<[f64; 2]>> {
+        if uv_gradient.len() != self.vertex_count {
+            return Err(Error::InvalidArgument(format!(
+                "{} gradient entries for a mesh of {} vertices",
+                uv_gradient.len(),
+                self.vertex_count
+            )));
+        }
+        let mut ws = self.take_workspace();
+        for (x, &v) in ws.rows.iter_mut().zip(&self.row_vertex) {
+            *x = if (v as usize) < self.vertex_count { uv_gradient[v as usize] } else { [0.0; 2] };
+        }
+        let solved = self.system.solve_permuted_rows(&mut ws.rows, true, &self.inverse_order, &mut ws.scratch, None);
+        let gradient = solved.map(|()| {
+            let mut g: Vec<[f64; 2]> = self.boundary.iter().map(|&v| uv_gradient[v as usize]).collect();
+            for &(r, i, w) in &self.coupling_rows {
+                let y = ws.rows[r as usize];
+                g[i as usize][0] += w * y[0];
+                g[i as usize][1] += w * y[1];
+            }
+            g
+        });
+        self.give_workspace(ws);
+        gradient
     }
 
     /// Bytes the explicit Green-function basis takes: 8 · vertices · boundary vertices.

@@ -3,10 +3,15 @@
 
 pub mod abf;
 pub mod barycentric;
+pub mod boundary_optimization;
 pub mod conformal;
 pub mod constraints;
 pub mod fixed_system;
 pub mod floater;
 pub mod intrinsic;
+pub mod length_area_distortion;
+pub mod near_optimal;
 pub mod nonlinear;
+pub mod pgp;
+pub mod spectral_conformal;
 pub mod sphere;

@@ -35,7 +35,8 @@
 //!   5. flip-guarded relaxation (in the spirit of Praun & Hoppe 2003's guarded vertex
 //!      relaxation): Gauss–Seidel sweeps moving each vertex towards the projected barycentre of
 //!      its neighbours, a move being kept only if every triangle around the vertex stays
-//!      positively oriented (trying the full step, then halves). Along the straight segment
+//!      positively oriented and not nearly degenerate (relative to its size; trying the full
+//!      step, then halves). Along the straight segment
 //!      between the old and new positions each determinant is linear, so positive at both ends
 //!      means positive throughout: the map stays a valid embedding at every step (the local
 //!      degree at each vertex cannot jump while no triangle degenerates).
@@ -46,7 +47,7 @@
 
 use crate::boundary::{BoundaryShape, Distribution};
 use crate::error::{Error, Result};
-use crate::geometry::{cross, dot, norm, sub};
+use crate::geometry::{cross, dot, norm, norm2, sub};
 use crate::mesh::{TriMesh, NONE};
 use crate::methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions, Weights};
 
@@ -331,9 +332,19 @@ fn tutte_gnomonic(mesh: &TriMesh, sweeps: usize) -> Result<Vec<[f64; 3]>> {
     Ok(x)
 }
 
-/// Smallest determinant accepted as positive by the relaxation: a margin far above rounding
-/// noise of unit vectors, far below any triangle of a real mesh's embedding.
-const MIN_DET: f64 = 1e-30;
+/// Smallest determinant accepted by the relaxation, relative to the triangle's longest edge
+/// squared (`det[p, a, b]` is twice the area of the flat triangle times its distance to the
+/// centre, so this is a relative height): a move that makes a triangle nearly degenerate is
+/// refused. An absolute threshold is not enough — on the octahedron the barycentre of a vertex's
+/// neighbours is exactly another vertex, and a move onto it leaves determinants of rounding
+/// size (1e-17) that pass any absolute margin and then let later moves fold the map.
+const MIN_RELATIVE_DET: f64 = 1e-9;
+
+/// Whether the spherical triangle (p, a, b) is positively oriented and not nearly degenerate.
+fn well_oriented(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> bool {
+    let longest = norm2(sub(a, p)).max(norm2(sub(b, p))).max(norm2(sub(b, a)));
+    det(p, a, b) > MIN_RELATIVE_DET * longest
+}
 
 /// Gauss–Seidel sweeps moving each vertex towards the projected barycentre of its neighbours,
 /// keeping a move only when every triangle around the vertex stays positively oriented.
@@ -360,7 +371,7 @@ fn guarded_relaxation(mesh: &TriMesh, x: &mut [[f64; 3]], sweeps: usize) {
         }
     }
     let all_positive = |x: &[[f64; 3]], v: usize, p: [f64; 3]| {
-        fan[fan_start[v]..fan_start[v + 1]].iter().all(|&[a, b]| det(p, x[a as usize], x[b as usize]) > MIN_DET)
+        fan[fan_start[v]..fan_start[v + 1]].iter().all(|&[a, b]| well_oriented(p, x[a as usize], x[b as usize]))
     };
     for _ in 0..sweeps {
         for v in 0..n {

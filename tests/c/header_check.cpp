@@ -9,6 +9,8 @@ static_assert(sizeof(UvfMetrics) == 4 * sizeof(size_t) + 8 * sizeof(double), "Uv
 static_assert(sizeof(UvfMeshInfo) == 7 * sizeof(size_t) + 2 * sizeof(int64_t), "UvfMeshInfo layout");
 static_assert(offsetof(UvfFixedBoundaryOptions, struct_size) == 0, "struct_size comes first");
 static_assert(offsetof(UvfNaturalConformalOptions, struct_size) == 0, "struct_size comes first");
+static_assert(offsetof(UvfPgpOptions, struct_size) == 0, "struct_size comes first");
+static_assert(offsetof(UvfCurvatureOptions, struct_size) == 0, "struct_size comes first");
 static_assert(std::is_same<decltype(&uvf_natural_conformal_map),
                            UvfStatus (*)(const double *, size_t, const uint32_t *, size_t,
                                          const UvfNaturalConformalOptions *, double *)>::value,

@@ -252,18 +252,6 @@ static void check_intrinsic_tools(const double *positions, size_t nv, const uint
     uvf_boundary_editor_free(NULL);
     check(uvf_boundary_editor_new(positions, nv, triangles, nt, 0.0, 0.0, NULL, &editor) == UVF_INVALID_ARGUMENT
               && editor == NULL, "λ = μ = 0 refused");
-    check(uvf_spectral_conformal_map(positions, nv, triangles, nt, uv) == UVF_NOT_IMPLEMENTED,
-          "spectral conformal map is not implemented yet");
-    {
-        double lambda = -1.0;
-        uv[0] = 42.0;
-        check(uvf_intrinsic_optimal_map(positions, nv, triangles, nt, 0, &lambda, uv) == UVF_NOT_IMPLEMENTED &&
-                  uvf_last_error_message()[0] != '\0' && uv[0] == 42.0 && lambda == -1.0,
-              "near-optimal lambda is not implemented yet (message set, outputs untouched)");
-        check(uvf_boundary_optimized_map(positions, nv, triangles, nt, 0, uv) == UVF_NOT_IMPLEMENTED &&
-                  uvf_last_error_message()[0] != '\0' && uv[0] == 42.0,
-              "boundary optimization is not implemented yet (message set, outputs untouched)");
-    }
 }
 
 /* uvf_abf: ABF++ and ABF converge on the bent grid without flips, report their iterations, and
@@ -305,6 +293,102 @@ static void check_abf(const double *positions, size_t nv, const uint32_t *triang
  * and map an octahedron onto the sphere without flips. */
 #define TN 10
 #define TM 6
+/* Spectral conformal map, near-optimal λ and boundary optimization (Desbrun et al. 2002 §5,
+ * Mullen et al. 2008) on the bent grid: converged eigenpair, λ no worse than DCP and DAP, a
+ * decreasing energy history without flips, cancellation and bad options. */
+static void check_intrinsic_optimization(const double *positions, size_t nv, const uint32_t *triangles, size_t nt,
+                                         double *uv) {
+    UvfSpectralOptions spectral;
+    UvfSpectralReport spectral_report;
+    UvfIntrinsicOptimalOptions optimal;
+    UvfIntrinsicOptimalReport optimal_report;
+    UvfBoundaryOptimizationOptions bopt;
+    UvfBoundaryOptimizationReport breport;
+    UvfMetrics metrics;
+    double history[101];
+    size_t i;
+    int calls = 0, monotone = 1;
+
+    uvf_spectral_options_default(&spectral);
+    check(spectral.struct_size == sizeof spectral && spectral.iterations > 0, "spectral defaults");
+    check(uvf_spectral_conformal_map(positions, nv, triangles, nt, &spectral, uv, &spectral_report) == UVF_OK,
+          "spectral conformal map succeeds");
+    check(spectral_report.converged == 1 && spectral_report.residual <= spectral.tolerance &&
+              spectral_report.eigenvalue >= 0.0,
+          "spectral eigenpair converged");
+    check(uvf_metrics(positions, nv, triangles, nt, uv, nv, NULL, &metrics) == UVF_OK && metrics.flipped == 0 &&
+              metrics.conformal_mean < 1.05,
+          "spectral map is nearly conformal without flips");
+    check(uvf_spectral_conformal_map(positions, nv, triangles, nt, NULL, uv, NULL) == UVF_OK,
+          "spectral map with NULL options and report");
+    spectral.iterations = 0;
+    uv[0] = 42.0;
+    check(uvf_spectral_conformal_map(positions, nv, triangles, nt, &spectral, uv, NULL) == UVF_INVALID_ARGUMENT &&
+              uv[0] == 42.0,
+          "zero spectral iterations refused, output untouched");
+    uvf_spectral_options_default(&spectral);
+    spectral.progress = cancel_first;
+    spectral.progress_user = &calls;
+    check(uvf_spectral_conformal_map(positions, nv, triangles, nt, &spectral, uv, NULL) == UVF_CANCELLED &&
+              calls == 1 && uv[0] == 42.0,
+          "spectral map cancelled by its callback");
+
+    uvf_intrinsic_optimal_options_default(&optimal);
+    check(optimal.energy == UVF_ENERGY_EDGE_LENGTH && isinf(optimal.lambda_min) && optimal.lambda_min < 0,
+          "near-optimal defaults: edge energy, unbounded lambda");
+    check(uvf_intrinsic_optimal_map(positions, nv, triangles, nt, &optimal, uv, &optimal_report) == UVF_OK,
+          "near-optimal lambda (edge lengths)");
+    check(optimal_report.energy <= optimal_report.energy_conformal &&
+              optimal_report.energy <= optimal_report.energy_authalic && isfinite(optimal_report.lambda),
+          "near-optimal energy no worse than DCP and DAP");
+    optimal.energy = UVF_ENERGY_AREA;
+    optimal.lambda_min = 0.0;
+    optimal.lambda_max = 1.0;
+    check(uvf_intrinsic_optimal_map(positions, nv, triangles, nt, &optimal, uv, &optimal_report) == UVF_OK &&
+              optimal_report.lambda >= 0.0 && optimal_report.lambda <= 1.0,
+          "near-optimal lambda (areas) within [0, 1]");
+    optimal.lambda_min = 2.0;
+    uv[0] = 42.0;
+    check(uvf_intrinsic_optimal_map(positions, nv, triangles, nt, &optimal, uv, NULL) == UVF_INVALID_ARGUMENT &&
+              uv[0] == 42.0,
+          "empty lambda range refused, output untouched");
+    optimal.lambda_min = 0.0;
+    optimal.energy = 9;
+    check(uvf_intrinsic_optimal_map(positions, nv, triangles, nt, &optimal, uv, NULL) == UVF_INVALID_ARGUMENT,
+          "unknown energy refused");
+
+    uvf_boundary_optimization_options_default(&bopt);
+    check(bopt.iterations == 100 && bopt.lambda == 1.0 && bopt.mu == 0.0, "boundary optimization defaults");
+    check(uvf_boundary_optimized_map(positions, nv, triangles, nt, &bopt, uv, history, 101, &breport) == UVF_OK,
+          "boundary optimization succeeds");
+    check(breport.history_length == (size_t)breport.iterations + 1 && breport.history_length <= 101 &&
+              history[0] == breport.initial_energy && history[breport.history_length - 1] == breport.final_energy &&
+              breport.final_energy < breport.initial_energy && breport.flipped == 0,
+          "boundary optimization lowers the energy, history reported");
+    for (i = 1; i < breport.history_length; i++)
+        if (history[i] > history[i - 1]) monotone = 0;
+    check(monotone, "energy history never increases");
+    check(uvf_metrics(positions, nv, triangles, nt, uv, nv, NULL, &metrics) == UVF_OK && metrics.flipped == 0 &&
+              metrics.degenerate_uv == 0,
+          "boundary-optimized map has no flipped or degenerate triangle");
+    history[1] = -1.0;
+    bopt.energy = UVF_ENERGY_AREA;
+    check(uvf_boundary_optimized_map(positions, nv, triangles, nt, &bopt, uv, history, 1, &breport) == UVF_OK &&
+              breport.history_length > 1 && history[1] == -1.0,
+          "history truncated to its capacity, full length reported");
+    calls = 0;
+    bopt.progress = cancel_first;
+    bopt.progress_user = &calls;
+    uv[0] = 42.0;
+    check(uvf_boundary_optimized_map(positions, nv, triangles, nt, &bopt, uv, history, 101, NULL) == UVF_CANCELLED &&
+              calls == 1 && uv[0] == 42.0,
+          "boundary optimization cancelled before its first iteration");
+    bopt.progress = NULL;
+    bopt.tolerance = -1.0;
+    check(uvf_boundary_optimized_map(positions, nv, triangles, nt, &bopt, uv, NULL, 0, NULL) == UVF_INVALID_ARGUMENT,
+          "negative tolerance refused");
+}
+
 static void check_closed_surfaces(void) {
     static double pos[3 * TN * TM], cut_pos[3 * 4 * TN * TM], cut_uv[2 * 4 * TN * TM];
     static uint32_t tris[6 * TN * TM], cut_tris[6 * TN * TM], original[4 * TN * TM], edges[4 * TN * TM];
@@ -370,15 +454,178 @@ static void check_closed_surfaces(void) {
     uvf_sphere_options_default(&sphere_options);
     check(sphere_options.method == UVF_SPHERE_TUTTE_GNOMONIC, "sphere defaults");
     status = uvf_spherical_map(oct, 6, oct_tris, 8, &sphere_options, sphere, &flipped);
-    /* Known bug (tests/closed_surfaces.rs, ignored test): on the 6-vertex octahedron the
-     * Tutte-gnomonic map reports flipped triangles; real genus-0 meshes map without flips. The
-     * count is reported to the caller, never hidden. */
-    check(status == UVF_OK && flipped <= 8, "octahedron maps to the sphere and reports its flips");
+    check(status == UVF_OK && flipped == 0, "octahedron maps to the sphere without flips");
     for (k = 0; k < 6; k++)
         check(fabs(sphere[3 * k] * sphere[3 * k] + sphere[3 * k + 1] * sphere[3 * k + 1] +
                    sphere[3 * k + 2] * sphere[3 * k + 2] - 1.0) < 1e-12, "positions on the unit sphere");
     status = uvf_spherical_map(pos, TN * TM, tris, 2 * TN * TM, NULL, sphere, &flipped);
     check(status == UVF_UNSUPPORTED_TOPOLOGY, "a torus has no spherical map");
+}
+
+/* Periodic Global Parameterization on a torus: curvatures, per-corner (θ, φ), the result
+ * handle's singularity lists (a torus has χ = 0), cancellation, bad fields, and the entry
+ * points that are not implemented yet. */
+#define PN 60
+#define PM 12
+static int cancel_pgp(void *user, double fraction) {
+    (void)user;
+    return fraction > 0.2;
+}
+
+static void check_pgp(void) {
+    static double pos[3 * PN * PM], kmin_dir[3 * PN * PM], kmax_dir[3 * PN * PM], kmin[PN * PM], kmax[PN * PM];
+    static double corners[6 * 2 * PN * PM], field[3 * PN * PM], copied_field[3 * PN * PM], indices[PN * PM];
+    static uint32_t tris[6 * PN * PM], list[6 * PN * PM];
+    const size_t nv = PN * PM, nt = 2 * PN * PM;
+    UvfCurvatureOptions copts;
+    UvfPgpOptions options;
+    UvfPgpInfo info;
+    UvfPgp *pgp = NULL;
+    UvfQuadMesh *quads = NULL;
+    UvfChartLayout *layout = NULL;
+    UvfStatus status;
+    size_t k;
+    int i, j, t = 0, ok = 1;
+    for (i = 0; i < PN; i++)
+        for (j = 0; j < PM; j++) {
+            double u = 6.283185307179586 * i / PN, v = 6.283185307179586 * j / PM, r = 5.0 + cos(v);
+            pos[3 * (i * PM + j)] = r * cos(u);
+            pos[3 * (i * PM + j) + 1] = r * sin(u);
+            pos[3 * (i * PM + j) + 2] = sin(v);
+        }
+    for (i = 0; i < PN; i++)
+        for (j = 0; j < PM; j++) {
+            uint32_t a = (uint32_t)(i * PM + j), b = (uint32_t)(((i + 1) % PN) * PM + j);
+            uint32_t c = (uint32_t)(((i + 1) % PN) * PM + (j + 1) % PM), d = (uint32_t)(i * PM + (j + 1) % PM);
+            uint32_t *q = tris + 6 * t++;
+            q[0] = a; q[1] = b; q[2] = c; q[3] = a; q[4] = c; q[5] = d;
+        }
+
+    uvf_curvature_options_default(&copts);
+    check(copts.struct_size == sizeof copts && copts.neighbourhood == UVF_CURVATURE_RINGS && copts.rings == 2,
+          "curvature defaults");
+    status = uvf_curvature(pos, nv, tris, nt, &copts, kmin_dir, kmax_dir, kmin, kmax);
+    check(status == UVF_OK, "curvature of a torus");
+    for (k = 0; k < nv; k++) ok &= fabs(kmax[k] - 1.0) < 0.15 && kmin[k] <= kmax[k];
+    check(ok, "torus kmax is 1/r around the tube");
+    check(uvf_curvature(pos, nv, tris, nt, NULL, NULL, NULL, NULL, kmax) == UVF_OK, "curvature outputs may be NULL");
+    copts.rings = 0;
+    kmax[0] = 42.0;
+    status = uvf_curvature(pos, nv, tris, nt, &copts, NULL, NULL, NULL, kmax);
+    check(status == UVF_INVALID_ARGUMENT && kmax[0] == 42.0, "zero rings are rejected, output untouched");
+
+    uvf_pgp_options_default(&options);
+    check(options.struct_size == sizeof options && options.smoothing == UVF_SMOOTH_HALF_PI && options.omega == 0.0 &&
+              options.epsilon == 1e-3 && options.rho == 0.8,
+          "pgp defaults");
+    status = uvf_pgp(pos, nv, tris, nt, &options, corners, &pgp);
+    check(status == UVF_OK && pgp != NULL, "pgp of a torus");
+    if (pgp == NULL) return;
+    ok = 1;
+    for (k = 0; k < 6 * nt; k++) ok &= isfinite(corners[k]);
+    check(ok, "per-corner coordinates are finite");
+    status = uvf_pgp_info(pgp, &info);
+    check(status == UVF_OK && info.omega > 0.0 && fabs(info.index_sum) < 1e-9, "pgp info: index sum 0 on a torus");
+    check(info.singular_triangle_count < nt / 20, "few singular triangles");
+    check(uvf_pgp_copy_singular_vertices(pgp, list, info.singular_vertex_count) == UVF_OK, "copy singular vertices");
+    check(uvf_pgp_copy_singular_edges(pgp, list, 2 * info.singular_edge_count) == UVF_OK, "copy singular edges");
+    check(uvf_pgp_copy_singular_triangles(pgp, list, info.singular_triangle_count) == UVF_OK,
+          "copy singular triangles");
+    for (k = 0; k < info.singular_triangle_count; k++) check(list[k] < nt, "singular triangles are triangles");
+    check(uvf_pgp_copy_singular_points(pgp, list, indices, info.singular_point_count) == UVF_OK, "copy points");
+    check(uvf_pgp_copy_field(pgp, copied_field, 3 * nv) == UVF_OK, "copy field");
+    check(uvf_pgp_copy_field(pgp, copied_field, 3 * nv - 1) == UVF_INVALID_ARGUMENT, "too small field capacity");
+    status = uvf_pgp_quad_mesh(pgp, 1.0, &quads);
+    check(status == UVF_NOT_IMPLEMENTED && quads == NULL && strstr(uvf_last_error_message(), "not implemented") != NULL,
+          "quad-dominant remesh is not implemented yet");
+    status = uvf_pgp_chart_layout(pgp, &layout);
+    check(status == UVF_NOT_IMPLEMENTED && layout == NULL, "chart layout is not implemented yet");
+    check(uvf_pgp_info(NULL, &info) == UVF_INVALID_ARGUMENT, "NULL pgp handle is rejected");
+    uvf_pgp_free(pgp);
+    uvf_pgp_free(NULL);
+
+    /* The caller's field: kmax directions with one NaN vector, named in the message. */
+    for (k = 0; k < 3 * nv; k++) field[k] = kmax_dir[k];
+    status = uvf_curvature(pos, nv, tris, nt, NULL, NULL, field, NULL, NULL);
+    field[3 * 7] = NAN;
+    options.field = field;
+    corners[0] = 42.0;
+    status = uvf_pgp(pos, nv, tris, nt, &options, corners, NULL);
+    check(status == UVF_INVALID_ARGUMENT && strstr(uvf_last_error_message(), "vertex 7") != NULL && corners[0] == 42.0,
+          "a NaN field vector is named, output untouched");
+    options.field = NULL;
+    options.progress = cancel_pgp;
+    status = uvf_pgp(pos, nv, tris, nt, &options, corners, NULL);
+    check(status == UVF_CANCELLED && corners[0] == 42.0, "pgp cancels from the progress callback");
+    options.progress = NULL;
+    options.smoothing = 3;
+    check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_INVALID_ARGUMENT, "unknown smoothing");
+}
+
+/* uvf_atlas: a torus becomes charts without flips, packed into the unit square; the handle's
+ * accessors agree with each other; bad options and a cancelling callback are refused. */
+static void check_atlas(void) {
+    enum { AN = 16, AM = 8 };
+    static double pos[3 * AN * AM], uv[2 * 8 * AN * AM], corner_uv[12 * AN * AM];
+    static uint32_t tris[6 * AN * AM], uv_tris[6 * AN * AM], charts[2 * AN * AM], original[8 * AN * AM];
+    UvfAtlasOptions options;
+    UvfAtlasInfo info;
+    UvfAtlas *atlas = NULL;
+    UvfMetrics metrics;
+    UvfStatus status;
+    int i, j, t = 0, calls = 0;
+    size_t k;
+    for (i = 0; i < AN; i++)
+        for (j = 0; j < AM; j++) {
+            double u = 6.283185307179586 * i / AN, v = 6.283185307179586 * j / AM, r = 2.0 + cos(v);
+            pos[3 * (i * AM + j)] = r * cos(u);
+            pos[3 * (i * AM + j) + 1] = r * sin(u);
+            pos[3 * (i * AM + j) + 2] = sin(v);
+        }
+    for (i = 0; i < AN; i++)
+        for (j = 0; j < AM; j++) {
+            uint32_t a = (uint32_t)(i * AM + j), b = (uint32_t)(((i + 1) % AN) * AM + j);
+            uint32_t c = (uint32_t)(((i + 1) % AN) * AM + (j + 1) % AM), d = (uint32_t)(i * AM + (j + 1) % AM);
+            uint32_t *q = tris + 6 * t++;
+            q[0] = a; q[1] = b; q[2] = c; q[3] = a; q[4] = c; q[5] = d;
+        }
+    uvf_atlas_options_default(&options);
+    check(options.struct_size == sizeof options && options.max_stretch >= 1.0 && options.rotate == 1, "atlas defaults");
+    options.max_stretch = 1.05;
+    status = uvf_atlas(pos, AN * AM, tris, 2 * AN * AM, &options, &atlas);
+    check(status == UVF_OK && atlas != NULL, "a torus becomes an atlas");
+    if (atlas == NULL) return;
+    check(uvf_atlas_info(atlas, &info) == UVF_OK && info.triangle_count == 2 * AN * AM, "atlas info");
+    check(info.chart_count >= 1 && info.max_chart_stretch <= 1.05 && info.stretch_l2 <= 1.05, "charts under the bound");
+    check(info.utilization > 0.0 && info.utilization < 1.0, "utilization is a fraction");
+    check(info.vertex_count <= 8 * AN * AM, "atlas vertices fit the test buffers");
+    check(uvf_atlas_copy_uv(atlas, uv, 2 * info.vertex_count - 1) == UVF_INVALID_ARGUMENT, "small uv capacity");
+    check(uvf_atlas_copy_uv(atlas, uv, 2 * info.vertex_count) == UVF_OK, "copy uv");
+    check(uvf_atlas_copy_triangles(atlas, uv_tris, 3 * info.triangle_count) == UVF_OK, "copy uv triangles");
+    check(uvf_atlas_copy_corner_uv(atlas, corner_uv, 6 * info.triangle_count) == UVF_OK, "copy corner uv");
+    check(uvf_atlas_copy_charts(atlas, charts, info.triangle_count) == UVF_OK, "copy charts");
+    check(uvf_atlas_copy_original_vertices(atlas, original, info.vertex_count) == UVF_OK, "copy original vertices");
+    for (k = 0; k < 3 * info.triangle_count; k++) {
+        check(original[uv_tris[k]] == tris[k], "every atlas corner maps back to its input vertex");
+        check(corner_uv[2 * k] == uv[2 * uv_tris[k]] && corner_uv[2 * k + 1] == uv[2 * uv_tris[k] + 1], "corner uv");
+    }
+    for (k = 0; k < 2 * info.vertex_count; k++) check(uv[k] >= 0.0 && uv[k] <= 1.0, "uv in the unit square");
+    for (k = 0; k < info.triangle_count; k++) check(charts[k] < info.chart_count, "chart ids in range");
+    status = uvf_metrics(pos, AN * AM, tris, info.triangle_count, uv, info.vertex_count, uv_tris, &metrics);
+    check(status == UVF_OK && metrics.flipped == 0 && metrics.boundary_intersections == 0, "atlas flips nothing");
+    uvf_atlas_free(atlas);
+    uvf_atlas_free(NULL);
+    check(uvf_atlas_info(NULL, &info) == UVF_INVALID_ARGUMENT, "NULL atlas handle is rejected");
+    atlas = NULL;
+    options.max_stretch = 0.5;
+    status = uvf_atlas(pos, AN * AM, tris, 2 * AN * AM, &options, &atlas);
+    check(status == UVF_INVALID_ARGUMENT && atlas == NULL, "max_stretch < 1 is rejected");
+    check(strlen(uvf_last_error_message()) > 0, "and says why");
+    uvf_atlas_options_default(&options);
+    options.progress = cancel_first;
+    options.progress_user = &calls;
+    status = uvf_atlas(pos, AN * AM, tris, 2 * AN * AM, &options, &atlas);
+    check(status == UVF_CANCELLED && atlas == NULL && calls == 1, "atlas progress callback cancels");
 }
 
 int main(void) {
@@ -454,7 +701,10 @@ int main(void) {
     check_nonlinear(positions, nv, triangles, nt, uv);
     check_intrinsic_tools(positions, nv, triangles, nt, uv);
     check_abf(positions, nv, triangles, nt, uv);
+    check_intrinsic_optimization(positions, nv, triangles, nt, uv);
     check_closed_surfaces();
+    check_pgp();
+    check_atlas();
 
     if (failures == 0) printf("all C checks passed\n");
     return failures == 0 ? 0 : 1;

@@ -87,28 +87,26 @@ C_TYPES = {
     "const uint32_t *": ctypes.POINTER(ctypes.c_uint32),
     "uint32_t *": ctypes.POINTER(ctypes.c_uint32),
     "size_t": ctypes.c_size_t,
-    "struct UvfMeshInfo *": ctypes.POINTER(_library.UvfMeshInfo),
-    "struct UvfMetrics *": ctypes.POINTER(_library.UvfMetrics),
-    "struct UvfFixedBoundaryOptions *": ctypes.POINTER(_library.UvfFixedBoundaryOptions),
-    "const struct UvfFixedBoundaryOptions *": ctypes.POINTER(_library.UvfFixedBoundaryOptions),
-    "struct UvfNaturalConformalOptions *": ctypes.POINTER(_library.UvfNaturalConformalOptions),
-    "const struct UvfNaturalConformalOptions *": ctypes.POINTER(_library.UvfNaturalConformalOptions),
     "double": ctypes.c_double,
     "uint32_t": ctypes.c_uint32,
     "size_t *": ctypes.POINTER(ctypes.c_size_t),
-    "struct UvfBoundaryEditor **": ctypes.POINTER(ctypes.POINTER(_library.UvfBoundaryEditor)),
-    "struct UvfBoundaryEditor *": ctypes.POINTER(_library.UvfBoundaryEditor),
-    "const struct UvfBoundaryEditor *": ctypes.POINTER(_library.UvfBoundaryEditor),
-    "struct UvfCut **": ctypes.POINTER(ctypes.POINTER(_library.UvfCut)),
-    "struct UvfCut *": ctypes.POINTER(_library.UvfCut),
-    "const struct UvfCut *": ctypes.POINTER(_library.UvfCut),
-    "const struct UvfPointConstraint *": ctypes.POINTER(_library.UvfPointConstraint),
-    "struct UvfCutInfo *": ctypes.POINTER(_library.UvfCutInfo),
-    "struct UvfAbfReport *": ctypes.POINTER(_library.UvfAbfReport),
-    "struct UvfNonlinearReport *": ctypes.POINTER(_library.UvfNonlinearReport),
 }
-for _options in ("UvfAbfOptions", "UvfIntrinsicToolOptions", "UvfNonlinearOptions", "UvfCutOptions", "UvfSphereOptions"):
-    C_TYPES[f"struct {_options} *"] = C_TYPES[f"const struct {_options} *"] = ctypes.POINTER(getattr(_library, _options))
+
+
+def c_type(text):
+    """The ctypes type a header parameter type must be declared with.
+
+    Structs map by name onto the class of the same name in ``_library``, so a
+    struct the binding does not define fails here with its name."""
+    if text in C_TYPES:
+        return C_TYPES[text]
+    match = re.fullmatch(r"(?:const )?struct (\w+) (\*+)", text)
+    assert match, f"unknown C type {text!r}"
+    struct = getattr(_library, match.group(1))
+    pointer = ctypes.POINTER(struct)
+    return pointer if len(match.group(2)) == 1 else ctypes.POINTER(pointer)
+
+
 C_RETURNS = {
     "enum UvfStatus": ctypes.c_int,
     "const char *": ctypes.c_char_p,
@@ -119,13 +117,13 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 37, sorted(functions)
+    assert len(functions) == 62, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
         restype, argtypes = _library.PROTOTYPES[name]
         assert restype is C_RETURNS[ret], name
-        declared = [C_TYPES[re.sub(r"\w+$", "", p).strip()] for p in params]
+        declared = [c_type(re.sub(r"\w+$", "", p).strip()) for p in params]
         assert list(argtypes) == declared, name
         assert list(getattr(lib, name).argtypes) == declared and getattr(lib, name).restype is restype
 
@@ -155,7 +153,24 @@ STRUCTS = {
     "UvfCutOptions": _library.UvfCutOptions,
     "UvfCutInfo": _library.UvfCutInfo,
     "UvfSphereOptions": _library.UvfSphereOptions,
+    "UvfAtlasOptions": _library.UvfAtlasOptions,
+    "UvfAtlasInfo": _library.UvfAtlasInfo,
+    "UvfSpectralOptions": _library.UvfSpectralOptions,
+    "UvfSpectralReport": _library.UvfSpectralReport,
+    "UvfIntrinsicOptimalOptions": _library.UvfIntrinsicOptimalOptions,
+    "UvfIntrinsicOptimalReport": _library.UvfIntrinsicOptimalReport,
+    "UvfBoundaryOptimizationOptions": _library.UvfBoundaryOptimizationOptions,
+    "UvfBoundaryOptimizationReport": _library.UvfBoundaryOptimizationReport,
+    "UvfCurvatureOptions": _library.UvfCurvatureOptions,
+    "UvfPgpOptions": _library.UvfPgpOptions,
+    "UvfPgpInfo": _library.UvfPgpInfo,
 }
+
+
+def test_every_header_struct_is_checked_for_layout():
+    defined = set(re.findall(r"^typedef struct (Uvf\w+) \{|^struct (Uvf\w+) \{", HEADER.read_text(), re.M))
+    names = {a or b for a, b in defined}
+    assert names == set(STRUCTS), sorted(names ^ set(STRUCTS))
 
 
 def c_name(field: str) -> str:
@@ -841,6 +856,22 @@ def test_abf_plus_plus_converges_without_flips_and_cancels():
         uvflat.abf(p, t, progress=lambda fraction: False)
 
 
+def test_abf_with_given_pins_places_them_and_keeps_the_angles():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    loops = uvflat.boundary_loops(p, t)
+    a, b = int(loops[0][0]), int(loops[0][len(loops[0]) // 2])
+    free, _ = uvflat.abf(p, t)
+    pinned, report = uvflat.abf(p, t, pins=((a, (0.25, -1.0)), (b, (2.0, 3.0))))
+    assert report.converged
+    assert np.allclose(pinned[a], (0.25, -1.0), atol=1e-9) and np.allclose(pinned[b], (2.0, 3.0), atol=1e-9)
+    # Other pins only move, turn and scale the reconstruction: the angles stay the same.
+    m_free, m_pinned = uvflat.metrics(p, t, free), uvflat.metrics(p, t, pinned)
+    assert m_pinned.flipped == 0
+    assert abs(m_pinned.angle_mean - m_free.angle_mean) < 1e-6
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.abf(p, t, pins=((a, (0.0, 0.0)),))
+
+
 def test_cut_to_disk_makes_a_torus_a_disk_that_maps_back_to_its_vertices():
     p, t = load_mesh("closed_g1_bob.obj")
     cut = uvflat.cut_to_disk(p, t)
@@ -880,3 +911,169 @@ def test_cut_to_disk_with_given_costs_avoids_expensive_edges():
         uvflat.cut_to_disk(p, t, cost=cost[:-1])
     with pytest.raises(uvflat.InvalidArgument):
         uvflat.cut_to_disk(p, t, cost=np.full(t.shape, -1.0))
+
+
+# --- periodic global parameterization ----------------------------------------------------------
+
+
+def test_curvature_of_a_torus_is_one_over_r_around_the_tube():
+    # closed_g1_torus: tube radius from the mesh itself (distance to the centre circle; the
+    # axis of revolution is the coordinate axis of smallest extent, 2r against 2(R + r)).
+    p, t = load_mesh("closed_g1_torus.obj")
+    c = uvflat.curvature(p, t)
+    assert c.kmin_direction.shape == c.kmax_direction.shape == (len(p), 3)
+    assert (c.kmin <= c.kmax).all()
+    assert np.allclose(np.einsum("ij,ij->i", c.kmin_direction, c.kmax_direction), 0.0, atol=1e-12)
+    q = p - p.mean(axis=0)
+    axis = int(np.argmin(q.max(axis=0) - q.min(axis=0)))
+    a, b = [i for i in range(3) if i != axis]
+    ring = np.hypot(q[:, a], q[:, b])
+    big_r = 0.5 * (ring.max() + ring.min())
+    r = np.hypot(ring - big_r, q[:, axis]).mean()
+    assert abs(np.median(c.kmax) - 1.0 / r) < 0.05 / r
+    wider = uvflat.curvature(p, t, radius=0.2 * r)
+    assert wider.kmax.shape == (len(p),)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.curvature(p, t, rings=0)
+
+
+def test_pgp_equals_the_cli_and_its_indices_sum_to_the_euler_characteristic(tmp_path):
+    name = "closed_g3_triple_torus.obj"
+    p, t = load_mesh(name)
+    result = uvflat.pgp(p, t)
+    assert result.corner_coords.shape == (len(t), 3, 2)
+    assert abs(result.indices.sum() - (2 - 2 * 3)) < 1e-9
+    assert result.converged and result.final_gradient < 1e-6
+    assert (result.singular_triangles < len(t)).all() and result.singular_edges.shape[1] == 2
+    out = tmp_path / "pgp.obj"
+    cli = json.loads(run_cli("pgp", str(mesh_path(name)), "-o", str(out), "--json").stdout)
+    _, _, vt = parse_obj(out.read_text())
+    np.testing.assert_allclose(vt, result.uv.reshape(-1, 2), rtol=0, atol=1e-12)
+    assert cli["singular_triangles"] == len(result.singular_triangles)
+    assert cli["index_sum"] == pytest.approx(result.indices.sum(), abs=1e-9)
+
+
+def test_pgp_rejects_a_bad_field_naming_the_vertex_and_cancels():
+    p, t = load_mesh("closed_g1_bob.obj")
+    field = uvflat.curvature(p, t).kmax_direction.copy()
+    field[11] = np.nan
+    with pytest.raises(uvflat.InvalidArgument, match="vertex 11"):
+        uvflat.pgp(p, t, field=field)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.pgp(p, t, smooth="quarter")
+    with pytest.raises(uvflat.Cancelled):
+        uvflat.pgp(p, t, progress=lambda fraction: fraction < 0.3)
+
+
+def test_pgp_quad_mesh_and_chart_layout_say_they_are_not_implemented():
+    p, t = load_mesh("closed_g1_bob.obj")
+    with pytest.raises(uvflat.NotImplemented, match="quad-dominant"):
+        uvflat.pgp(p, t, quad_mesh=1.0)
+    with pytest.raises(uvflat.NotImplemented, match="chart layout"):
+        uvflat.pgp(p, t, chart_layout=True)
+    cli = run_cli("pgp", str(mesh_path("closed_g1_bob.obj")), "-o", "/dev/null", "--quad-mesh", "q.obj", check=False)
+    assert cli.returncode != 0 and "not implemented" in cli.stderr
+
+
+def test_atlas_of_a_genus_one_mesh_is_flip_free_inside_the_unit_square():
+    p, t = load_mesh("closed_g1_bob.obj")
+    a = uvflat.atlas(p, t, max_stretch=1.05, margin=0.01)
+    assert a.chart_count >= 1 and a.charts.max() == a.chart_count - 1
+    assert (a.original_vertices[a.triangles] == t).all()
+    assert ((a.uv >= 0) & (a.uv <= 1)).all()
+    assert a.max_chart_stretch <= 1.05 and 0 < a.utilization < 1
+    m = uvflat.metrics(p[a.original_vertices], a.triangles, a.uv)
+    assert m.flipped == 0 and m.boundary_intersections == 0
+    assert abs(m.stretch_l2 - a.stretch_l2) < 1e-9
+    assert a.corner_uv.shape == (len(t), 3, 2)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.atlas(p, t, max_stretch=0.5)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.atlas(p, t, method="tutte")
+    with pytest.raises(uvflat.Cancelled):
+        uvflat.atlas(p, t, progress=lambda fraction: False)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.atlas(p, t, polish_iterations=-1)
+    plain = uvflat.atlas(p, t, max_stretch=1.05, margin=0.01, polish_iterations=0)
+    assert plain.max_chart_stretch <= 1.05 and plain.stretch_l2 >= a.stretch_l2
+
+
+# --- issue 3: near-optimal λ, boundary optimization, spectral conformal -----------------------
+
+
+def edge_energy(p, t, uv):
+    """Σ_edges (|u_i − u_j|² / |x_i − x_j|² − 1)² (Desbrun et al. 2002 §5.1), written out here."""
+    e = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
+    e = np.unique(np.sort(e, axis=1), axis=0)
+    l3 = ((p[e[:, 0]] - p[e[:, 1]]) ** 2).sum(axis=1)
+    l2 = ((uv[e[:, 0]] - uv[e[:, 1]]) ** 2).sum(axis=1)
+    return float(((l2 / l3 - 1.0) ** 2).sum())
+
+
+def test_intrinsic_optimal_map_minimizes_the_edge_energy_on_its_line():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    uv, report = uvflat.intrinsic_optimal_map(p, t, energy="edge")
+    assert abs(edge_energy(p, t, uv) - report.energy) <= 1e-9 * max(report.energy, 1.0)
+    assert report.energy <= min(report.energy_conformal, report.energy_authalic) * (1 + 1e-12)
+    # The line λ·DCP + (1 − λ)·DAP at the reported boundary scale, scanned densely.
+    dcp = uvflat.conformal(p, t) * report.boundary_scale
+    dap = uvflat.authalic(p, t) * report.boundary_scale
+    scan = min(edge_energy(p, t, l * dcp + (1 - l) * dap) for l in np.linspace(-1, 2, 601))
+    assert report.energy <= scan * (1 + 1e-12)
+    assert np.allclose(uv, report.lambda_ * dcp + (1 - report.lambda_) * dap, atol=1e-9)
+    _, bounded = uvflat.intrinsic_optimal_map(p, t, energy="area", lambda_min=0.0, lambda_max=1.0)
+    assert 0.0 <= bounded.lambda_ <= 1.0
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.intrinsic_optimal_map(p, t, lambda_min=1.0, lambda_max=0.0)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.intrinsic_optimal_map(p, t, energy="volume")
+
+
+def test_boundary_optimized_map_lowers_the_energy_without_flips_and_cancels():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    uv, history, report = uvflat.boundary_optimized_map(p, t, energy="edge", iterations=20)
+    assert len(history) == report.history_length == report.iterations + 1
+    assert (np.diff(history) <= 0).all() and history[-1] < history[0]
+    assert abs(edge_energy(p, t, uv) - history[-1]) <= 1e-9 * max(history[-1], 1.0)
+    m = uvflat.metrics(p, t, uv)
+    assert report.flipped == 0 and m.flipped == 0 and m.degenerate_uv == 0
+    with pytest.raises(uvflat.Cancelled):
+        uvflat.boundary_optimized_map(p, t, progress=lambda fraction: False)
+
+
+def test_spectral_conformal_map_needs_no_pins_and_ignores_rigid_motion():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    uv, report = uvflat.spectral_conformal_map(p, t)
+    assert report.converged and report.residual <= 1e-10 and report.eigenvalue > 0
+    assert uvflat.metrics(p, t, uv).flipped == 0
+    c, s = np.cos(0.7), np.sin(0.7)
+    rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    moved, _ = uvflat.spectral_conformal_map(p @ rotation.T * 3.0 + [1.0, -2.0, 5.0], t)
+    # Same placement convention (area scale, farthest boundary pair on +u): the same map up to
+    # the scale of the input.
+    assert np.allclose(moved, 3.0 * uv, atol=1e-6 * np.abs(uv).max() * 3.0)
+    with pytest.raises(uvflat.UnsupportedTopology):
+        uvflat.spectral_conformal_map(*load_mesh("closed_g0_decimated_knight.obj"))
+    with pytest.raises(uvflat.Cancelled):
+        uvflat.spectral_conformal_map(p, t, progress=lambda fraction: False)
+
+
+def test_boundary_editor_matches_a_fresh_solve_and_its_basis():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    with uvflat.BoundaryEditor(p, t, lambda_=1.0, mu=0.0) as editor:
+        ring = editor.boundary
+        assert len(ring) > 3 and set(ring.tolist()) <= set(uvflat.boundary_loops(p, t)[0].tolist())
+        angle = np.linspace(0.0, 2.0 * np.pi, len(ring), endpoint=False)
+        boundary_uv = np.c_[np.cos(angle), 0.5 * np.sin(angle)]
+        uv = editor.solve(boundary_uv)
+        fresh = uvflat.fixed_boundary_map(p, t, weights="conformal", boundary=(ring, boundary_uv))
+        assert np.abs(uv - fresh).max() <= 1e-9
+        basis = editor.basis()
+        assert basis.shape == (len(ring), len(p))
+        assert np.abs(basis.T @ boundary_uv - uv).max() <= 1e-9
+        with pytest.raises(uvflat.InvalidArgument):
+            editor.basis(max_bytes=8)
+        with pytest.raises(uvflat.InvalidArgument):
+            editor.solve(boundary_uv[:-1])
+    with pytest.raises(uvflat.UnsupportedTopology):
+        uvflat.BoundaryEditor(*load_mesh("closed_g0_decimated_knight.obj"))

@@ -496,6 +496,167 @@ def test_methods_and_options(props):
     assert (data["uv"][loops] >= -1e-6).all() and (data["uv"][loops] <= 1 + 1e-6).all()
 
 
+def test_abf_plus_plus_uses_two_pins_in_its_reconstruction():
+    n = 8
+    obj = grid(n)
+    before = set_uvs(obj, np.random.default_rng(11)).astype(np.float64)
+    data0 = read(obj)
+    loops = poly_loops(data0, np.arange(len(obj.data.polygons)))
+    lv = data0["loop_vert"]
+    a, b = 0, (n + 1) * (n + 1) - 1  # opposite grid corners
+    targets = {a: (0.2, 0.3), b: (0.7, 0.9)}
+    pinned = []
+    for v, uv in targets.items():
+        loop = loops[lv[loops] == v][0]
+        before[loop] = uv
+        pinned.append(loop)
+    obj.data.uv_layers.active.uv.foreach_set("vector", before.astype(np.float32).ravel())
+    set_pins(obj, pinned)
+    edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
+    summary = run(method="ABF_PLUS_PLUS")
+    data = read(obj)
+    assert summary["unenforced_pins"] == 0
+    for v, uv in targets.items():
+        np.testing.assert_allclose(data["uv"][loops[lv[loops] == v]], np.tile(uv, (len(loops[lv[loops] == v]), 1)), atol=1e-6)
+    assert_no_flips(data, uv_islands(data, np.arange(len(obj.data.polygons))))
+
+
+def _unwrap_run(obj, **settings):
+    """An UnwrapRun over obj's selected faces (Object Mode), as the operator starts one."""
+    import blender_addon.unwrap as unwrap
+    from blender_addon._binding import binding
+
+    values = {"method": "NATURAL_CONFORMAL", "boundary": "circle", "lambda": 1.0, "mu": 0.0, "iterations": 100}
+    values.update(cut_closed=True, **settings)
+    bpy.ops.object.mode_set(mode="OBJECT")
+    return unwrap.UnwrapRun(binding(), values, [obj], correct_aspect=False)
+
+
+def test_cancel_stops_the_running_method_within_one_iteration_and_keeps_the_uvs():
+    import blender_addon.unwrap as unwrap
+
+    obj = grid(30)
+    before = set_uvs(obj, np.random.default_rng(12)).astype(np.float64)
+    edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
+    job = _unwrap_run(obj, method="SLIM", iterations=1000)
+    calls = []
+    keep_going = job._keep_going
+
+    def press_escape_on_the_third_callback(fraction):
+        calls.append(fraction)
+        if len(calls) == 3:
+            job.cancel.set()  # what the modal operator does on Esc
+        return keep_going(fraction)
+
+    job._keep_going = press_escape_on_the_third_callback
+    with pytest.raises(unwrap.Cancelled):
+        job.solve(lambda f: None)
+    assert len(calls) == 3, "the library called back again after it was told to stop"
+    assert job.solved == []
+    np.testing.assert_array_equal(read(obj)["uv"], before.astype(np.float32).astype(np.float64))
+
+
+def test_worker_thread_solve_matches_the_synchronous_one_and_can_be_cancelled():
+    import threading
+
+    import blender_addon.unwrap as unwrap
+
+    def solve_on_a_thread(job):
+        thread = threading.Thread(target=job.solve_catching)
+        thread.start()
+        thread.join(timeout=120)
+        assert not thread.is_alive()
+
+    obj = grid(16)
+    select = lambda o: face_centers(o)[:, 0] < 0.2  # noqa: E731
+    edit([obj], select)
+    synchronous = _unwrap_run(obj, method="ABF_PLUS_PLUS")
+    synchronous.solve(lambda f: None)
+    threaded = _unwrap_run(obj, method="ABF_PLUS_PLUS")
+    solve_on_a_thread(threaded)
+    assert threaded.error is None
+    assert len(threaded.solved) == len(synchronous.solved) == 1
+    np.testing.assert_array_equal(threaded.solved[0].uv, synchronous.solved[0].uv)
+    cancelled = _unwrap_run(obj, method="ABF_PLUS_PLUS")
+    cancelled.cancel.set()
+    solve_on_a_thread(cancelled)
+    assert isinstance(cancelled.error, unwrap.Cancelled) and cancelled.solved == []
+
+
+def _fake_modal_operator(job, reports):
+    """The state invoke() leaves on the operator, with the window manager calls stubbed: the
+    modal handler's logic then runs for real (bpy's background mode has no event loop)."""
+    import threading
+    from types import SimpleNamespace
+
+    import blender_addon.unwrap as unwrap
+
+    op = SimpleNamespace(_run=job, _thread=threading.Thread(target=job.solve_catching), _timer=None, margin=0.001)
+    op.pack = False
+    op.report = lambda kind, message: reports.append((kind, message))
+    op._finish = lambda context, run: unwrap.UVFLAT_OT_unwrap._finish(op, context, run)
+    wm = SimpleNamespace(progress_update=lambda v: None, event_timer_remove=lambda t: None, progress_end=lambda: None)
+    context = SimpleNamespace(window_manager=wm, workspace=SimpleNamespace(status_text_set=lambda text: None))
+    return op, context
+
+
+def test_modal_handler_cancels_on_escape_and_finishes_when_the_worker_is_done():
+    import threading
+    from types import SimpleNamespace
+
+    import blender_addon.unwrap as unwrap
+
+    modal = unwrap.UVFLAT_OT_unwrap.modal
+    timer, escape = SimpleNamespace(type="TIMER", value="NOTHING"), SimpleNamespace(type="ESC", value="PRESS")
+    obj = grid(12)
+    before = set_uvs(obj, np.random.default_rng(13)).astype(np.float32).astype(np.float64)
+    edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
+
+    # Esc while the library is running: the worker stops, the mesh keeps its UVs.
+    job = _unwrap_run(obj, method="SLIM", iterations=100)
+    inside, keep_going = threading.Event(), job._keep_going
+
+    def wait_for_escape(fraction):
+        inside.set()
+        job.cancel.wait(60)
+        return keep_going(fraction)
+
+    job._keep_going = wait_for_escape
+    reports = []
+    op, context = _fake_modal_operator(job, reports)
+    op._thread.start()
+    assert inside.wait(60)
+    assert modal(op, context, timer) == {"RUNNING_MODAL"}
+    assert modal(op, context, escape) == {"RUNNING_MODAL"}
+    op._thread.join(60)
+    assert modal(op, context, timer) == {"CANCELLED"}
+    assert reports == [({"WARNING"}, "uvflat: cancelled; UVs unchanged")]
+    assert bpy.context.mode == "EDIT_MESH"
+    np.testing.assert_array_equal(read(obj)["uv"], before)
+
+    # No Esc: the first timer event after the worker is done writes the UVs back.
+    edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
+    job = _unwrap_run(obj, method="SLIM", iterations=5)
+    reports = []
+    op, context = _fake_modal_operator(job, reports)
+    op._thread.start()
+    op._thread.join(60)
+    assert modal(op, context, timer) == {"FINISHED"}
+    assert len(reports) == 1 and reports[0][0] == {"INFO"} and "1 islands" in reports[0][1]
+    data = read(obj)
+    assert (np.abs(data["uv"] - before).max(axis=1) > 0).all()
+    assert_no_flips(data, uv_islands(data, np.arange(len(obj.data.polygons))))
+
+
+def test_invoke_without_a_window_runs_synchronously():
+    obj = grid(6)
+    edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
+    assert bpy.ops.uv.uvflat_unwrap("INVOKE_DEFAULT") == {"FINISHED"}
+    import blender_addon.unwrap as unwrap
+
+    assert unwrap.LAST_RUN["islands"] == 1
+
+
 def test_correct_aspect_uses_the_active_image():
     def unwrap_extent(aspect_image: bool) -> float:
         for o in list(bpy.data.objects):

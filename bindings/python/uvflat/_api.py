@@ -21,7 +21,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 
 from . import _library as L
-from ._errors import Error, InvalidArgument, InvalidMesh, error_for_status
+from ._errors import Error, InternalError, InvalidArgument, InvalidMesh, error_for_status
 
 ArrayLike = Any
 #: A progress callback: receives the fraction done in [0, 1]; returning ``False`` cancels.
@@ -434,6 +434,25 @@ def intrinsic(
 # --- natural conformal map ------------------------------------------------------------------
 
 
+def _set_two_pins(options: Any, pins: Pins) -> None:
+    """Writes ``((v0, (u0, v0_)), (v1, (u1, v1_)))`` into an options struct's ``pin_count``,
+    ``pin_vertices`` and ``pin_uv`` fields (natural conformal and ABF options share them)."""
+    try:
+        (v0, uv0), (v1, uv1) = pins
+        vertices = [int(v0), int(v1)]
+        uvs = [float(uv0[0]), float(uv0[1]), float(uv1[0]), float(uv1[1])]
+        if len(uv0) != 2 or len(uv1) != 2:
+            raise ValueError
+    except (TypeError, ValueError, IndexError):
+        raise InvalidArgument(f"pins must be ((vertex, (u, v)), (vertex, (u, v))), not {pins!r}") from None
+    for v in vertices:
+        if not 0 <= v <= _U32_MAX:
+            raise InvalidArgument(f"pinned vertex {v} is not a vertex index")
+    options.pin_count = 2
+    options.pin_vertices[:] = vertices
+    options.pin_uv[:] = uvs
+
+
 def natural_conformal_map(
     positions: ArrayLike,
     triangles: ArrayLike,
@@ -465,20 +484,7 @@ def natural_conformal_map(
     options = L.UvfNaturalConformalOptions()
     L.library().uvf_natural_conformal_options_default(byref(options))
     if pins is not None:
-        try:
-            (v0, uv0), (v1, uv1) = pins
-            vertices = [int(v0), int(v1)]
-            uvs = [float(uv0[0]), float(uv0[1]), float(uv1[0]), float(uv1[1])]
-            if len(uv0) != 2 or len(uv1) != 2:
-                raise ValueError
-        except (TypeError, ValueError, IndexError):
-            raise InvalidArgument(f"pins must be ((vertex, (u, v)), (vertex, (u, v))), not {pins!r}") from None
-        for v in vertices:
-            if not 0 <= v <= _U32_MAX:
-                raise InvalidArgument(f"pinned vertex {v} is not a vertex index")
-        options.pin_count = 2
-        options.pin_vertices[:] = vertices
-        options.pin_uv[:] = uvs
+        _set_two_pins(options, pins)
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     uv = np.empty((len(p), 2), dtype=np.float64)
@@ -639,6 +645,198 @@ def nonlinear_map(
     return uv, _from_struct(NonlinearReport, report)
 
 
+_ENERGIES: Dict[str, int] = {
+    "edge": L.UVF_ENERGY_EDGE_LENGTH,
+    "edge_length": L.UVF_ENERGY_EDGE_LENGTH,
+    "area": L.UVF_ENERGY_AREA,
+}
+
+
+def _set_boundary(options: ctypes.Structure, boundary: Boundary) -> Tuple[Any, Any]:
+    """Fills ``boundary``/``given_*`` of an options struct; returns the arrays it points into
+    (keep them alive until the call returns)."""
+    if isinstance(boundary, (str, int, np.integer)) and not isinstance(boundary, bool):
+        options.boundary = _code(boundary, _SHAPES, "boundary")
+        if options.boundary == L.UVF_BOUNDARY_GIVEN:
+            raise InvalidArgument("give the boundary positions themselves (a mapping or (vertices, uv))")
+        return None, None
+    given_vertices, given_uv = _given_boundary(boundary)
+    options.boundary = L.UVF_BOUNDARY_GIVEN
+    options.given_count = len(given_vertices)
+    options.given_vertices = _u32p(given_vertices)
+    options.given_uv = _f64p(given_uv)
+    return given_vertices, given_uv
+
+
+@dataclasses.dataclass(frozen=True)
+class SpectralReport:
+    """What ``uvf_spectral_conformal_map`` reports: the eigenpair behind the map."""
+
+    iterations: int
+    converged: int
+    #: λ of ``L_C z = λ B z``.
+    eigenvalue: float
+    #: Normwise backward error of the eigenpair.
+    residual: float
+
+
+def spectral_conformal_map(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    *,
+    iterations: Optional[int] = None,
+    tolerance: Optional[float] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> Tuple[np.ndarray, SpectralReport]:
+    """Spectral conformal map (Mullen, Tong, Alliez, Desbrun 2008; ``uvf_spectral_conformal_map``):
+    free-boundary conformal map without pins, the smallest non-trivial generalized eigenvector
+    of the conformal energy against the boundary mass, by inverse iteration. Scaled to the
+    surface area, farthest boundary pair from (0, 0) along +u.
+
+    Returns:
+        ``(uv, report)``: ``(n, 2)`` UVs (NaN for unreferenced vertices) and a
+        :class:`SpectralReport`.
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    options = L.UvfSpectralOptions()
+    L.library().uvf_spectral_options_default(byref(options))
+    if iterations is not None:
+        options.iterations = int(iterations)
+    if tolerance is not None:
+        options.tolerance = float(tolerance)
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    uv = np.empty((len(p), 2), dtype=np.float64)
+    report = L.UvfSpectralReport()
+    lib = L.library()
+    bridge.run(
+        lambda: lib.uvf_spectral_conformal_map(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(uv), byref(report))
+    )
+    return uv, _from_struct(SpectralReport, report)
+
+
+@dataclasses.dataclass(frozen=True)
+class IntrinsicOptimalReport:
+    """What ``uvf_intrinsic_optimal_map`` reports."""
+
+    #: The minimizing λ of ``λ·U^A + (1 − λ)·U^χ``.
+    lambda_: float
+    energy: float
+    #: Energy of the DCP map (λ = 1).
+    energy_conformal: float
+    #: Energy of the DAP map (λ = 0).
+    energy_authalic: float
+    boundary_scale: float
+    #: Clockwise or degenerate UV triangles of the result.
+    flipped: int
+
+
+def intrinsic_optimal_map(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    *,
+    energy: Union[str, int] = "edge",
+    boundary: Boundary = "circle",
+    distribution: Union[str, int] = "chord",
+    lambda_min: float = float("-inf"),
+    lambda_max: float = float("inf"),
+    progress: Optional[ProgressCallback] = None,
+) -> Tuple[np.ndarray, IntrinsicOptimalReport]:
+    """Near-optimal intrinsic map (Desbrun et al. 2002 §5.1; ``uvf_intrinsic_optimal_map``):
+    ``λ·DCP + (1 − λ)·DAP`` (the two maps, same boundary) of least ``energy`` — ``"edge"``
+    (edge-length distortion) or ``"area"`` — over λ in [``lambda_min``, ``lambda_max``],
+    by exact polynomial minimization. A circle or square boundary is scaled to the surface area.
+
+    Returns:
+        ``(uv, report)``: ``(n, 2)`` UVs and an :class:`IntrinsicOptimalReport`.
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    options = L.UvfIntrinsicOptimalOptions()
+    L.library().uvf_intrinsic_optimal_options_default(byref(options))
+    options.energy = _code(energy, _ENERGIES, "energy")
+    keep = _set_boundary(options, boundary)
+    options.distribution = _code(distribution, _DISTRIBUTIONS, "distribution")
+    options.lambda_min = float(lambda_min)
+    options.lambda_max = float(lambda_max)
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    uv = np.empty((len(p), 2), dtype=np.float64)
+    report = L.UvfIntrinsicOptimalReport()
+    lib = L.library()
+    bridge.run(
+        lambda: lib.uvf_intrinsic_optimal_map(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(uv), byref(report))
+    )
+    del keep
+    return uv, _from_struct(IntrinsicOptimalReport, report)
+
+
+@dataclasses.dataclass(frozen=True)
+class BoundaryOptimizationReport:
+    """What ``uvf_boundary_optimized_map`` reports."""
+
+    iterations: int
+    converged: int
+    #: Entries of the energy history (iterations + 1).
+    history_length: int
+    initial_energy: float
+    final_energy: float
+    boundary_scale: float
+    #: Triangles flipped in the start, kept as they are by every step (0 for a flip-free start).
+    flipped: int
+
+
+def boundary_optimized_map(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    *,
+    energy: Union[str, int] = "edge",
+    lambda_: float = 1.0,
+    mu: float = 0.0,
+    iterations: Optional[int] = None,
+    tolerance: Optional[float] = None,
+    boundary: Boundary = "circle",
+    distribution: Union[str, int] = "chord",
+    progress: Optional[ProgressCallback] = None,
+) -> Tuple[np.ndarray, np.ndarray, BoundaryOptimizationReport]:
+    """Boundary-optimized intrinsic map (Desbrun et al. 2002 §5.2; ``uvf_boundary_optimized_map``):
+    the λ·DCP + μ·DAP map whose outer boundary descends ``energy`` (``"edge"`` or ``"area"``),
+    with steps that never flip or degenerate a triangle. ``progress`` is called once per
+    iteration; returning ``False`` cancels before the next one.
+
+    Returns:
+        ``(uv, history, report)``: ``(n, 2)`` UVs, the energy history (start first,
+        non-increasing) and a :class:`BoundaryOptimizationReport`.
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    options = L.UvfBoundaryOptimizationOptions()
+    L.library().uvf_boundary_optimization_options_default(byref(options))
+    options.energy = _code(energy, _ENERGIES, "energy")
+    options.lambda_ = float(lambda_)
+    options.mu = float(mu)
+    if iterations is not None:
+        if not 0 <= int(iterations) <= _U32_MAX:
+            raise InvalidArgument(f"iterations must be in [0, {_U32_MAX}], not {iterations}")
+        options.iterations = int(iterations)
+    if tolerance is not None:
+        options.tolerance = float(tolerance)
+    keep = _set_boundary(options, boundary)
+    options.distribution = _code(distribution, _DISTRIBUTIONS, "distribution")
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    uv = np.empty((len(p), 2), dtype=np.float64)
+    history = np.empty(options.iterations + 1, dtype=np.float64)
+    report = L.UvfBoundaryOptimizationReport()
+    lib = L.library()
+    bridge.run(
+        lambda: lib.uvf_boundary_optimized_map(
+            _f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(uv), _f64p(history), len(history), byref(report)
+        )
+    )
+    del keep
+    result = _from_struct(BoundaryOptimizationReport, report)
+    return uv, history[: min(result.history_length, len(history))].copy(), result
+
+
 @dataclasses.dataclass(frozen=True)
 class AbfReport:
     """What ``uvf_abf`` reports about its run."""
@@ -656,10 +854,16 @@ def abf(
     variant: str = "abf++",
     max_iterations: Optional[int] = None,
     tolerance: Optional[float] = None,
+    pins: Optional[Pins] = None,
     progress: Optional[ProgressCallback] = None,
 ) -> Tuple[np.ndarray, AbfReport]:
     """Angle based flattening (``uvf_abf``): ``"abf++"`` (Sheffer et al. 2005, default) or
     ``"abf"`` (Sheffer & de Sturler 2001), then the LSCM-style reconstruction of UVs.
+
+    Args:
+        pins: ``None`` (default) or ``((v0, (u0, v0_)), (v1, (u1, v1_)))``: the two vertices
+            the reconstruction pins and their UVs, as for :func:`natural_conformal_map` (by
+            default the two boundary vertices farthest apart).
 
     Returns:
         ``(uv, report)``: ``(n, 2)`` UVs and an :class:`AbfReport`.
@@ -668,6 +872,8 @@ def abf(
     options = L.UvfAbfOptions()
     L.library().uvf_abf_options_default(byref(options))
     options.variant = _code(variant, {"abf": L.UVF_ABF_VARIANT_ABF, "abf++": L.UVF_ABF_VARIANT_ABF_PLUS_PLUS}, "variant")
+    if pins is not None:
+        _set_two_pins(options, pins)
     if max_iterations is not None:
         options.max_iterations = int(max_iterations)
     if tolerance is not None:
@@ -758,3 +964,330 @@ def cut_to_disk(positions: ArrayLike, triangles: ArrayLike, cost: Union[str, Arr
     finally:
         lib.uvf_cut_free(handle)
     return Cut(cut_positions, cut_triangles, original, edges, info.seam_length, info.total_edge_length)
+
+
+# --- periodic global parameterization (Ray et al. 2006) --------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Curvatures:
+    """Principal curvatures per vertex (``uvf_curvature``)."""
+
+    kmin_direction: np.ndarray  #: ``(n, 3)`` unit tangent directions of the minimum curvature
+    kmax_direction: np.ndarray  #: ``(n, 3)`` unit tangent directions of the maximum curvature
+    kmin: np.ndarray  #: ``(n,)`` signed minimum curvature
+    kmax: np.ndarray  #: ``(n,)`` signed maximum curvature (a sphere of radius r: 1/r)
+
+
+def curvature(positions: ArrayLike, triangles: ArrayLike, rings: int = 2, radius: Optional[float] = None) -> Curvatures:
+    """Principal curvatures by the normal-cycle tensor of Cohen-Steiner & Morvan 2003
+    (``uvf_curvature``), averaged over the triangles around the vertices at most ``rings − 1``
+    edges away, or, with ``radius``, within that graph distance."""
+    p, t = _mesh_arrays(positions, triangles)
+    options = L.UvfCurvatureOptions()
+    lib = L.library()
+    lib.uvf_curvature_options_default(byref(options))
+    if radius is None:
+        options.rings = _non_negative_int(rings, "rings")
+    else:
+        options.neighbourhood = L.UVF_CURVATURE_RADIUS
+        options.radius = float(radius)
+    n = len(p)
+    kmin_d, kmax_d = np.empty((n, 3), dtype=np.float64), np.empty((n, 3), dtype=np.float64)
+    kmin, kmax = np.empty(n, dtype=np.float64), np.empty(n, dtype=np.float64)
+    _check(
+        lib.uvf_curvature(
+            _f64p(p), n, _u32p(t), len(t), byref(options), _f64p(kmin_d), _f64p(kmax_d), _f64p(kmin), _f64p(kmax)
+        )
+    )
+    return Curvatures(kmin_d, kmax_d, kmin, kmax)
+
+
+def _non_negative_int(value: Any, what: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0 or value > 2**32 - 1:
+        raise InvalidArgument(f"{what} must be a non-negative integer, not {value!r}")
+    return int(value)
+
+
+@dataclasses.dataclass(frozen=True)
+class PgpResult:
+    """A periodic global parameterization (``uvf_pgp``)."""
+
+    corner_coords: np.ndarray  #: ``(m, 3, 2)`` (θ, φ) at corner k of triangle t, period 2π
+    singular_vertices: np.ndarray  #: ``(a,)`` vertices whose (θ, φ) angles do not sum to 2π
+    singular_edges: np.ndarray  #: ``(b, 2)`` edges whose transition functions disagree
+    singular_triangles: np.ndarray  #: ``(c,)`` open or flipped (θ, φ) triangles
+    singular_points: np.ndarray  #: ``(d,)`` vertices with a non-zero index
+    indices: np.ndarray  #: ``(d,)`` their indices (multiples of 1/4; they sum to 2 − 2g)
+    field: np.ndarray  #: ``(n, 3)`` the field the solve followed
+    omega: float
+    newton_iterations: int
+    converged: bool
+    final_gradient: float
+    stretch: float  #: L2 stretch of (θ, φ)/ω over the regular triangles
+    shear: float  #: mean |cos| of the angle between the parameter directions
+    alignment_degrees: float  #: mean angle between the gradients and the field
+
+    @property
+    def uv(self) -> np.ndarray:
+        """``(m, 3, 2)`` texture coordinates (θ, φ)/2π: one texture tile per period."""
+        return self.corner_coords / (2.0 * np.pi)
+
+
+_SMOOTHING = {
+    "none": L.UVF_SMOOTH_NONE,
+    "2pi": L.UVF_SMOOTH_2PI,
+    "pi": L.UVF_SMOOTH_PI,
+    "pi/2": L.UVF_SMOOTH_HALF_PI,
+}
+
+
+def pgp(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    omega: Optional[float] = None,
+    field: Optional[ArrayLike] = None,
+    smooth: str = "pi/2",
+    curl_correction: bool = False,
+    rho: float = 0.8,
+    epsilon: float = 1e-3,
+    progress: Optional[ProgressCallback] = None,
+    quad_mesh: Optional[float] = None,
+    chart_layout: bool = False,
+) -> PgpResult:
+    """Periodic Global Parameterization (Ray, Li, Lévy, Sheffer, Alliez 2006; ``uvf_pgp``) of a
+    manifold mesh of any genus, without cutting: principal-curvature field (or ``field``, an
+    ``(n, 3)`` array), smoothing modulo ``smooth`` (``"none"``, ``"2pi"``, ``"pi"``,
+    ``"pi/2"``), optional curl correction, the periodic solve and the per-corner (θ, φ).
+    ``omega`` defaults to 2π / (10 × mean edge length).
+
+    ``quad_mesh`` (iso-lines per period of the quad-dominant remesh, §5) and ``chart_layout``
+    (§3.3–3.4) ask the library for those outputs, which it does not implement yet: with either
+    set, the call raises :class:`uvflat.NotImplemented` after the solve."""
+    p, t = _mesh_arrays(positions, triangles)
+    lib = L.library()
+    options = L.UvfPgpOptions()
+    lib.uvf_pgp_options_default(byref(options))
+    if omega is not None:
+        options.omega = float(omega)
+    options.smoothing = _code(smooth, _SMOOTHING, "smooth")
+    options.curl_correction = 1 if curl_correction else 0
+    options.rho = float(rho)
+    options.epsilon = float(epsilon)
+    given = None
+    if field is not None:
+        given = _as_points(field, 3, "field")
+        if len(given) != len(p):
+            raise InvalidArgument(f"field has {len(given)} vectors but the mesh has {len(p)} vertices")
+        options.field = _f64p(given)
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    coords = np.empty((len(t), 3, 2), dtype=np.float64)
+    handle = POINTER(L.UvfPgp)()
+    bridge.run(lambda: lib.uvf_pgp(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(coords), byref(handle)))
+    try:
+        if quad_mesh is not None:
+            quad = POINTER(L.UvfQuadMesh)()
+            _check(lib.uvf_pgp_quad_mesh(handle, float(quad_mesh), byref(quad)))
+        if chart_layout:
+            layout = POINTER(L.UvfChartLayout)()
+            _check(lib.uvf_pgp_chart_layout(handle, byref(layout)))
+        info = L.UvfPgpInfo()
+        _check(lib.uvf_pgp_info(handle, byref(info)))
+        vertices = np.empty(info.singular_vertex_count, dtype=np.uint32)
+        edges = np.empty((info.singular_edge_count, 2), dtype=np.uint32)
+        tris = np.empty(info.singular_triangle_count, dtype=np.uint32)
+        points = np.empty(info.singular_point_count, dtype=np.uint32)
+        indices = np.empty(info.singular_point_count, dtype=np.float64)
+        used_field = np.empty((len(p), 3), dtype=np.float64)
+        _check(lib.uvf_pgp_copy_singular_vertices(handle, _u32p(vertices), vertices.size))
+        _check(lib.uvf_pgp_copy_singular_edges(handle, _u32p(edges), edges.size))
+        _check(lib.uvf_pgp_copy_singular_triangles(handle, _u32p(tris), tris.size))
+        _check(lib.uvf_pgp_copy_singular_points(handle, _u32p(points), _f64p(indices), points.size))
+        _check(lib.uvf_pgp_copy_field(handle, _f64p(used_field), used_field.size))
+    finally:
+        lib.uvf_pgp_free(handle)
+    return PgpResult(
+        coords,
+        vertices,
+        edges,
+        tris,
+        points,
+        indices,
+        used_field,
+        info.omega,
+        info.newton_iterations,
+        bool(info.converged),
+        info.final_gradient,
+        info.stretch,
+        info.shear,
+        info.alignment_degrees,
+    )
+
+
+@dataclasses.dataclass(frozen=True)
+class Atlas:
+    """A packed atlas (``uvf_atlas``): charts under a stretch bound in the unit square."""
+
+    uv: np.ndarray  #: ``(k, 2)`` UV of every atlas vertex, in [0, 1]
+    triangles: np.ndarray  #: ``(m, 3)`` atlas vertex of each corner of each input triangle
+    original_vertices: np.ndarray  #: ``(k,)`` input vertex of each atlas vertex
+    charts: np.ndarray  #: ``(m,)`` chart id of each input triangle
+    chart_count: int
+    utilization: float  #: fraction of the unit square covered by charts
+    stretch_l2: float  #: L2 stretch of the whole atlas
+    max_chart_stretch: float
+
+    @property
+    def corner_uv(self) -> np.ndarray:
+        """``(m, 3, 2)`` UV of every corner."""
+        return self.uv[self.triangles]
+
+
+_ATLAS_METHODS = {
+    "natural_conformal": L.UVF_ATLAS_CHART_NATURAL_CONFORMAL,
+    "lscm": L.UVF_ATLAS_CHART_NATURAL_CONFORMAL,
+    "mean_value": L.UVF_ATLAS_CHART_MEAN_VALUE,
+    "slim": L.UVF_ATLAS_CHART_SLIM,
+    "stretch": L.UVF_ATLAS_CHART_STRETCH,
+}
+
+
+def atlas(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    max_stretch: float = 1.02,
+    margin: float = 0.005,
+    method: str = "natural_conformal",
+    iterations: int = 20,
+    rotate: bool = True,
+    merge: bool = True,
+    polish_iterations: int = 10,
+    progress: Optional[ProgressCallback] = None,
+) -> Atlas:
+    """Atlas of any manifold mesh (``uvf_atlas``): charts split top-down until each flattens
+    (``method``: ``natural_conformal``, ``mean_value``, ``slim`` or ``stretch``) without flips
+    or overlaps with L2 stretch ≤ ``max_stretch``, adjacent charts merged while still valid,
+    then packed into the unit square with ``margin`` between charts (``rotate``: let the packer
+    turn charts). ``polish_iterations`` L2-stretch minimization steps are spent on every chart
+    slightly over the bound before it is judged and on every accepted chart before packing (0:
+    none). ``progress`` may cancel (raises :class:`Cancelled`)."""
+    p, t = _mesh_arrays(positions, triangles)
+    lib = L.library()
+    options = L.UvfAtlasOptions()
+    lib.uvf_atlas_options_default(byref(options))
+    options.max_stretch = float(max_stretch)
+    options.margin = float(margin)
+    options.method = _code(method, _ATLAS_METHODS, "method")
+    if not (isinstance(iterations, int) and 0 <= iterations < 2**32):
+        raise InvalidArgument(f"iterations must be an integer in [0, 2^32), not {iterations!r}")
+    options.iterations = iterations
+    options.rotate = 1 if rotate else 0
+    options.merge = 1 if merge else 0
+    if not (isinstance(polish_iterations, int) and 0 <= polish_iterations < 2**32):
+        raise InvalidArgument(f"polish_iterations must be an integer in [0, 2^32), not {polish_iterations!r}")
+    options.polish_iterations = polish_iterations
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    handle = POINTER(L.UvfAtlas)()
+    bridge.run(lambda: lib.uvf_atlas(_f64p(p), len(p), _u32p(t), len(t), byref(options), byref(handle)))
+    try:
+        info = L.UvfAtlasInfo()
+        _check(lib.uvf_atlas_info(handle, byref(info)))
+        uv = np.empty((info.vertex_count, 2), dtype=np.float64)
+        uv_triangles = np.empty((info.triangle_count, 3), dtype=np.uint32)
+        original = np.empty(info.vertex_count, dtype=np.uint32)
+        charts = np.empty(info.triangle_count, dtype=np.uint32)
+        corner = np.empty((info.triangle_count, 3, 2), dtype=np.float64)
+        _check(lib.uvf_atlas_copy_uv(handle, _f64p(uv), uv.size))
+        _check(lib.uvf_atlas_copy_triangles(handle, _u32p(uv_triangles), uv_triangles.size))
+        _check(lib.uvf_atlas_copy_original_vertices(handle, _u32p(original), original.size))
+        _check(lib.uvf_atlas_copy_charts(handle, _u32p(charts), charts.size))
+        _check(lib.uvf_atlas_copy_corner_uv(handle, _f64p(corner), corner.size))
+    finally:
+        lib.uvf_atlas_free(handle)
+    if not np.array_equal(corner, uv[uv_triangles]):
+        raise InternalError("uvf_atlas_copy_corner_uv disagrees with the atlas vertices (please report this bug)")
+    return Atlas(
+        uv, uv_triangles, original, charts, info.chart_count, info.utilization, info.stretch_l2, info.max_chart_stretch
+    )
+
+
+class BoundaryEditor:
+    """Real-time boundary editing (Desbrun et al. 2002 §4.2, ``uvf_boundary_editor_*``): the
+    intrinsic map ``lambda_·conformal + mu·authalic`` is factored once; :meth:`solve` then
+    returns the whole map for new boundary positions in milliseconds. Solves on one editor may
+    run concurrently from several threads.
+
+    Example::
+
+        editor = uvflat.BoundaryEditor(positions, triangles, lambda_=1.0, mu=0.0)
+        ring = editor.boundary                      # boundary vertices, solve() order
+        angle = np.linspace(0, 2 * np.pi, len(ring), endpoint=False)
+        uv = editor.solve(np.c_[np.cos(angle), np.sin(angle)])
+
+    Raises (constructor): InvalidArgument, InvalidMesh, UnsupportedTopology (not a disk),
+    NumericalFailure, Cancelled.
+    """
+
+    def __init__(
+        self,
+        positions: ArrayLike,
+        triangles: ArrayLike,
+        lambda_: float = 1.0,
+        mu: float = 0.0,
+        progress: Optional[ProgressCallback] = None,
+    ) -> None:
+        p, t = _mesh_arrays(positions, triangles)
+        self._vertex_count = len(p)
+        self._lib = L.library()
+        options = L.UvfIntrinsicToolOptions()
+        self._lib.uvf_intrinsic_tool_options_default(byref(options))
+        bridge = _ProgressBridge(progress)
+        options.progress = bridge.c_function
+        self._handle = POINTER(L.UvfBoundaryEditor)()
+        bridge.run(
+            lambda: self._lib.uvf_boundary_editor_new(
+                _f64p(p), len(p), _u32p(t), len(t), float(lambda_), float(mu), byref(options), byref(self._handle)
+            )
+        )
+        count = ctypes.c_size_t()
+        _check(self._lib.uvf_boundary_editor_boundary(self._handle, byref(count), None))
+        #: Boundary vertices in the order :meth:`solve` expects their UVs.
+        self.boundary = np.empty(count.value, dtype=np.uint32)
+        _check(self._lib.uvf_boundary_editor_boundary(self._handle, byref(count), _u32p(self.boundary)))
+
+    def solve(self, boundary_uv: ArrayLike) -> np.ndarray:
+        """``(n, 2)`` UVs of every vertex for the ``(b, 2)`` boundary positions (in
+        :attr:`boundary` order); NaN for unreferenced vertices."""
+        b = np.ascontiguousarray(boundary_uv, dtype=np.float64)
+        if b.shape != (len(self.boundary), 2):
+            raise InvalidArgument(f"boundary_uv must have shape ({len(self.boundary)}, 2), not {b.shape}")
+        uv = np.empty((self._vertex_count, 2), dtype=np.float64)
+        _check(self._lib.uvf_boundary_editor_solve(self._handle, _f64p(b), len(b), _f64p(uv)))
+        return uv
+
+    def basis(self, max_bytes: int = 1 << 30) -> np.ndarray:
+        """The Green-function basis as a ``(b, n)`` array: ``uv = basis.T @ boundary_uv``.
+        Costs 8·n·b bytes; refused with InvalidArgument above ``max_bytes`` (default 1 GiB)."""
+        needed = 8 * len(self.boundary) * self._vertex_count
+        if needed > max_bytes:
+            raise InvalidArgument(f"the basis needs {needed} bytes, more than max_bytes = {max_bytes}")
+        out = np.empty((len(self.boundary), self._vertex_count), dtype=np.float64)
+        _check(self._lib.uvf_boundary_editor_basis(self._handle, int(max_bytes), _f64p(out)))
+        return out
+
+    def close(self) -> None:
+        """Frees the factorization now (also done when the editor is garbage-collected)."""
+        if getattr(self, "_handle", None):
+            self._lib.uvf_boundary_editor_free(self._handle)
+            self._handle = None
+
+    def __enter__(self) -> "BoundaryEditor":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+    def __del__(self) -> None:
+        self.close()

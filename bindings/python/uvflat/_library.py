@@ -80,9 +80,24 @@ UVF_CUT_COST_CURVATURE = 0
 UVF_CUT_COST_LENGTH = 1
 UVF_CUT_COST_GIVEN = 2
 
+UVF_ENERGY_EDGE_LENGTH = 0
+UVF_ENERGY_AREA = 1
+UVF_ATLAS_CHART_NATURAL_CONFORMAL = 0
+UVF_ATLAS_CHART_MEAN_VALUE = 1
+UVF_ATLAS_CHART_SLIM = 2
+UVF_ATLAS_CHART_STRETCH = 3
+
 UVF_SPHERE_TUTTE_GNOMONIC = 0
 UVF_SPHERE_GAUSS_SEIDEL = 1
 UVF_SPHERE_STEREOGRAPHIC = 2
+
+UVF_CURVATURE_RINGS = 0
+UVF_CURVATURE_RADIUS = 1
+
+UVF_SMOOTH_NONE = 0
+UVF_SMOOTH_2PI = 1
+UVF_SMOOTH_PI = 2
+UVF_SMOOTH_HALF_PI = 4
 
 # --- types (uvflat.h) -----------------------------------------------------------------------
 
@@ -206,6 +221,96 @@ class UvfPointConstraint(Structure):
     ]
 
 
+class UvfSpectralOptions(Structure):
+    """``struct UvfSpectralOptions``; fill with ``uvf_spectral_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("iterations", c_uint32),
+        ("tolerance", c_double),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
+    ]
+
+
+class UvfSpectralReport(Structure):
+    """``struct UvfSpectralReport``: the eigenpair behind a spectral conformal map."""
+
+    _fields_ = [
+        ("iterations", c_uint32),
+        ("converged", c_uint32),
+        ("eigenvalue", c_double),
+        ("residual", c_double),
+    ]
+
+
+class UvfIntrinsicOptimalOptions(Structure):
+    """``struct UvfIntrinsicOptimalOptions``; fill with ``uvf_intrinsic_optimal_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("energy", c_uint32),
+        ("boundary", c_uint32),
+        ("distribution", c_uint32),
+        ("lambda_min", c_double),
+        ("lambda_max", c_double),
+        ("given_count", c_size_t),
+        ("given_vertices", POINTER(c_uint32)),
+        ("given_uv", POINTER(c_double)),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
+    ]
+
+
+class UvfIntrinsicOptimalReport(Structure):
+    """``struct UvfIntrinsicOptimalReport``: the chosen λ and the energies."""
+
+    _fields_ = [
+        ("lambda_", c_double),  # `lambda` in C; a Python keyword
+        ("energy", c_double),
+        ("energy_conformal", c_double),
+        ("energy_authalic", c_double),
+        ("boundary_scale", c_double),
+        ("flipped", c_size_t),
+    ]
+
+
+class UvfBoundaryOptimizationOptions(Structure):
+    """``struct UvfBoundaryOptimizationOptions``; fill with
+    ``uvf_boundary_optimization_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("energy", c_uint32),
+        ("iterations", c_uint32),
+        ("lambda_", c_double),  # `lambda` in C; a Python keyword
+        ("mu", c_double),
+        ("tolerance", c_double),
+        ("boundary", c_uint32),
+        ("distribution", c_uint32),
+        ("given_count", c_size_t),
+        ("given_vertices", POINTER(c_uint32)),
+        ("given_uv", POINTER(c_double)),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
+    ]
+
+
+class UvfBoundaryOptimizationReport(Structure):
+    """``struct UvfBoundaryOptimizationReport``: iterations and energies of a boundary
+    optimization."""
+
+    _fields_ = [
+        ("iterations", c_uint32),
+        ("converged", c_uint32),
+        ("history_length", c_size_t),
+        ("initial_energy", c_double),
+        ("final_energy", c_double),
+        ("boundary_scale", c_double),
+        ("flipped", c_size_t),
+    ]
+
+
 class UvfNonlinearOptions(Structure):
     """``struct UvfNonlinearOptions``; fill with ``uvf_nonlinear_options_default``."""
 
@@ -253,6 +358,36 @@ class UvfCutInfo(Structure):
     ]
 
 
+class UvfAtlasOptions(Structure):
+    """``struct UvfAtlasOptions``; fill with ``uvf_atlas_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("max_stretch", c_double),
+        ("margin", c_double),
+        ("method", c_uint32),
+        ("iterations", c_uint32),
+        ("rotate", c_uint32),
+        ("merge", c_uint32),
+        ("polish_iterations", c_uint32),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
+    ]
+
+
+class UvfAtlasInfo(Structure):
+    """``struct UvfAtlasInfo``: sizes and figures of an atlas."""
+
+    _fields_ = [
+        ("vertex_count", c_size_t),
+        ("triangle_count", c_size_t),
+        ("chart_count", c_size_t),
+        ("utilization", c_double),
+        ("stretch_l2", c_double),
+        ("max_chart_stretch", c_double),
+    ]
+
+
 class UvfSphereOptions(Structure):
     """``struct UvfSphereOptions``; fill with ``uvf_sphere_options_default``."""
 
@@ -263,12 +398,80 @@ class UvfSphereOptions(Structure):
     ]
 
 
+class UvfCurvatureOptions(Structure):
+    """``struct UvfCurvatureOptions``; fill with ``uvf_curvature_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("neighbourhood", c_uint32),
+        ("rings", c_uint32),
+        ("radius", c_double),
+    ]
+
+
+class UvfPgpOptions(Structure):
+    """``struct UvfPgpOptions``; fill with ``uvf_pgp_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("omega", c_double),
+        ("field", POINTER(c_double)),
+        ("smoothing", c_uint32),
+        ("curl_correction", c_uint32),
+        ("rho", c_double),
+        ("smoothing_epsilon", c_double),
+        ("epsilon", c_double),
+        ("gradient_tolerance", c_double),
+        ("max_newton_iterations", c_uint32),
+        ("curvature_neighbourhood", c_uint32),
+        ("curvature_rings", c_uint32),
+        ("curvature_radius", c_double),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
+    ]
+
+
+class UvfPgpInfo(Structure):
+    """``struct UvfPgpInfo``: counts and quality figures of a PGP result."""
+
+    _fields_ = [
+        ("omega", c_double),
+        ("singular_vertex_count", c_size_t),
+        ("singular_edge_count", c_size_t),
+        ("singular_triangle_count", c_size_t),
+        ("singular_point_count", c_size_t),
+        ("index_sum", c_double),
+        ("newton_iterations", c_uint32),
+        ("converged", c_uint32),
+        ("final_gradient", c_double),
+        ("stretch", c_double),
+        ("shear", c_double),
+        ("alignment_degrees", c_double),
+    ]
+
+
+class UvfPgp(Structure):
+    """Opaque ``struct UvfPgp`` (only used through pointers)."""
+
+
+class UvfQuadMesh(Structure):
+    """Opaque ``struct UvfQuadMesh`` (only used through pointers)."""
+
+
+class UvfChartLayout(Structure):
+    """Opaque ``struct UvfChartLayout`` (only used through pointers)."""
+
+
 class UvfBoundaryEditor(Structure):
     """Opaque ``struct UvfBoundaryEditor`` (only used through pointers)."""
 
 
 class UvfCut(Structure):
     """Opaque ``struct UvfCut`` (only used through pointers)."""
+
+
+class UvfAtlas(Structure):
+    """Opaque ``struct UvfAtlas`` (only used through pointers)."""
 
 
 _f64p = POINTER(c_double)
@@ -325,9 +528,31 @@ PROTOTYPES = {
     "uvf_boundary_editor_boundary": (UvfStatus, [POINTER(UvfBoundaryEditor), POINTER(c_size_t), _u32p]),
     "uvf_boundary_editor_solve": (UvfStatus, [POINTER(UvfBoundaryEditor), _f64p, c_size_t, _f64p]),
     "uvf_boundary_editor_basis": (UvfStatus, [POINTER(UvfBoundaryEditor), c_size_t, _f64p]),
-    "uvf_spectral_conformal_map": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, _f64p]),
-    "uvf_intrinsic_optimal_map": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, c_uint32, _f64p, _f64p]),
-    "uvf_boundary_optimized_map": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, c_uint32, _f64p]),
+    "uvf_spectral_options_default": (None, [POINTER(UvfSpectralOptions)]),
+    "uvf_spectral_conformal_map": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfSpectralOptions), _f64p, POINTER(UvfSpectralReport)],
+    ),
+    "uvf_intrinsic_optimal_options_default": (None, [POINTER(UvfIntrinsicOptimalOptions)]),
+    "uvf_intrinsic_optimal_map": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfIntrinsicOptimalOptions), _f64p, POINTER(UvfIntrinsicOptimalReport)],
+    ),
+    "uvf_boundary_optimization_options_default": (None, [POINTER(UvfBoundaryOptimizationOptions)]),
+    "uvf_boundary_optimized_map": (
+        UvfStatus,
+        [
+            _f64p,
+            c_size_t,
+            _u32p,
+            c_size_t,
+            POINTER(UvfBoundaryOptimizationOptions),
+            _f64p,
+            _f64p,
+            c_size_t,
+            POINTER(UvfBoundaryOptimizationReport),
+        ],
+    ),
     "uvf_nonlinear_options_default": (None, [POINTER(UvfNonlinearOptions)]),
     "uvf_nonlinear_map": (
         UvfStatus,
@@ -344,6 +569,37 @@ PROTOTYPES = {
     "uvf_cut_copy_original_vertices": (UvfStatus, [POINTER(UvfCut), _u32p, c_size_t]),
     "uvf_cut_copy_positions": (UvfStatus, [POINTER(UvfCut), _f64p, c_size_t]),
     "uvf_cut_free": (None, [POINTER(UvfCut)]),
+    "uvf_curvature_options_default": (None, [POINTER(UvfCurvatureOptions)]),
+    "uvf_curvature": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfCurvatureOptions), _f64p, _f64p, _f64p, _f64p],
+    ),
+    "uvf_pgp_options_default": (None, [POINTER(UvfPgpOptions)]),
+    "uvf_pgp": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfPgpOptions), _f64p, POINTER(POINTER(UvfPgp))],
+    ),
+    "uvf_pgp_info": (UvfStatus, [POINTER(UvfPgp), POINTER(UvfPgpInfo)]),
+    "uvf_pgp_copy_singular_vertices": (UvfStatus, [POINTER(UvfPgp), _u32p, c_size_t]),
+    "uvf_pgp_copy_singular_edges": (UvfStatus, [POINTER(UvfPgp), _u32p, c_size_t]),
+    "uvf_pgp_copy_singular_triangles": (UvfStatus, [POINTER(UvfPgp), _u32p, c_size_t]),
+    "uvf_pgp_copy_singular_points": (UvfStatus, [POINTER(UvfPgp), _u32p, _f64p, c_size_t]),
+    "uvf_pgp_copy_field": (UvfStatus, [POINTER(UvfPgp), _f64p, c_size_t]),
+    "uvf_pgp_free": (None, [POINTER(UvfPgp)]),
+    "uvf_pgp_quad_mesh": (UvfStatus, [POINTER(UvfPgp), c_double, POINTER(POINTER(UvfQuadMesh))]),
+    "uvf_pgp_chart_layout": (UvfStatus, [POINTER(UvfPgp), POINTER(POINTER(UvfChartLayout))]),
+    "uvf_atlas_options_default": (None, [POINTER(UvfAtlasOptions)]),
+    "uvf_atlas": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfAtlasOptions), POINTER(POINTER(UvfAtlas))],
+    ),
+    "uvf_atlas_info": (UvfStatus, [POINTER(UvfAtlas), POINTER(UvfAtlasInfo)]),
+    "uvf_atlas_copy_uv": (UvfStatus, [POINTER(UvfAtlas), _f64p, c_size_t]),
+    "uvf_atlas_copy_triangles": (UvfStatus, [POINTER(UvfAtlas), _u32p, c_size_t]),
+    "uvf_atlas_copy_corner_uv": (UvfStatus, [POINTER(UvfAtlas), _f64p, c_size_t]),
+    "uvf_atlas_copy_charts": (UvfStatus, [POINTER(UvfAtlas), _u32p, c_size_t]),
+    "uvf_atlas_copy_original_vertices": (UvfStatus, [POINTER(UvfAtlas), _u32p, c_size_t]),
+    "uvf_atlas_free": (None, [POINTER(UvfAtlas)]),
     "uvf_sphere_options_default": (None, [POINTER(UvfSphereOptions)]),
     "uvf_spherical_map": (
         UvfStatus,

@@ -144,6 +144,42 @@ pub fn nonlinear_map_with_progress(
     })
 }
 
+/// [`nonlinear_map`] started from a caller-given map `initial` (one UV per vertex) instead of
+/// the mean value map. The start must have no flipped or degenerate triangle (it may be
+/// mirrored as a whole; it is rescaled to the input's area), otherwise the call fails with
+/// [`Error::InvalidArgument`]; the result is then locally injective as well.
+pub fn nonlinear_map_from(
+    mesh: &TriMesh,
+    options: &NonlinearOptions,
+    initial: &[[f64; 2]],
+    progress: &mut Progress,
+) -> Result<NonlinearResult> {
+    if initial.len() != mesh.vertex_count() {
+        return Err(Error::InvalidArgument(format!(
+            "the starting map has {} UVs but the mesh has {} vertices",
+            initial.len(),
+            mesh.vertex_count()
+        )));
+    }
+    mesh.require_disk_with_holes()?;
+    let problem = Problem::new(mesh);
+    let x0 = problem
+        .oriented_and_scaled(initial)
+        .ok_or_else(|| Error::InvalidArgument("the starting map has a flipped or degenerate triangle".into()))?;
+    let energy = options.method.energy(options.theta);
+    let run = match options.method {
+        NonlinearMethod::Slim => slim::minimize(&problem, x0, options, progress)?,
+        NonlinearMethod::Arap => arap::minimize(&problem, x0, options, progress)?,
+        _ => lbfgs::minimize(&problem, energy, x0, options, progress)?,
+    };
+    Ok(NonlinearResult {
+        uv: problem.expand(&run.x),
+        energy: run.energy,
+        iterations: run.iterations,
+        converged: run.converged,
+    })
+}
+
 /// The mesh restricted to its referenced vertices, numbered consecutively.
 pub struct Problem {
     /// Compact index of each mesh vertex (`NONE` when unreferenced).

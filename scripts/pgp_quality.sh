@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# PGP quality and timing table (README, "Periodic Global Parameterization"): runs
+# `uvflat pgp --json` with and without --curl-correction on every closed mesh of ../shared/meshes
+# (or the meshes given as arguments) under /usr/bin/time, and prints a Markdown table of singular
+# triangles, singular points, Σ indices, stretch, shear, alignment and CPU seconds (user +
+# system). Set UVFLAT to use another CLI binary (default target/release/uvflat, built here).
+# Example: scripts/pgp_quality.sh ../shared/meshes/disk_face_libigl_loop1.obj  (206,848 faces)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+cli=${UVFLAT:-target/release/uvflat}
+if [ -z "${UVFLAT:-}" ]; then
+    cargo build --release --quiet --bin uvflat
+fi
+if [ "$#" -gt 0 ]; then
+    meshes=("$@")
+else
+    meshes=(../shared/meshes/closed_*.obj)
+fi
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+
+echo "load before: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
+for mesh in "${meshes[@]}"; do
+    name=$(basename "$mesh" .obj)
+    for mode in pgp cc; do
+        flag=()
+        [ "$mode" = cc ] && flag=(--curl-correction)
+        /usr/bin/time -f "%U %S %e" -o "$out/$name.$mode.time" \
+            "$cli" pgp "$mesh" -o "$out/$name.$mode.obj" "${flag[@]}" --json >"$out/$name.$mode.json"
+        rm -f "$out/$name.$mode.obj"
+    done
+done
+echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
+
+python3 - "$out" "${meshes[@]}" <<'EOF'
+import json, os, sys
+out, meshes = sys.argv[1], sys.argv[2:]
+def run(name, mode):
+    j = json.load(open(f"{out}/{name}.{mode}.json"))
+    user, system, wall = map(float, open(f"{out}/{name}.{mode}.time").read().split()[-3:])
+    return j, user + system, wall
+print("| mesh | triangles | genus | Σ indices | singular triangles PGP / ccPGP | singular points PGP / ccPGP "
+      "| stretch PGP / ccPGP | shear PGP / ccPGP | alignment PGP / ccPGP | CPU s PGP / ccPGP | wall s PGP / ccPGP |")
+print("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
+for mesh in meshes:
+    name = os.path.basename(mesh)[:-4]
+    (a, ca, wa), (b, cb, wb) = run(name, "pgp"), run(name, "cc")
+    pct = lambda j: f"{100 * j['singular_triangle_fraction']:.2f}%"
+    print(f"| {name.replace('closed_', '')} | {a['triangles']} | {a['genus']} | {round(a['index_sum']) + 0} "
+          f"| {pct(a)} / {pct(b)} | {a['singular_points']} / {b['singular_points']} "
+          f"| {a['stretch']:.3f} / {b['stretch']:.3f} | {a['shear']:.3f} / {b['shear']:.3f} "
+          f"| {a['alignment_degrees']:.1f}° / {b['alignment_degrees']:.1f}° | {ca:.2f} / {cb:.2f} | {wa:.2f} / {wb:.2f} |")
+EOF

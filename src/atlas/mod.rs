@@ -1,0 +1,385 @@
+//! Atlas mode: split any manifold mesh (closed or not, any genus, any number of components)
+//! into charts whose flattening keeps the L2 stretch under a caller-given bound, flatten each
+//! chart with a chosen method, and pack the charts into the unit square (course notes §6.2:
+//! "decompose the shape into a set of charts using a segmentation algorithm (e.g. VSA), then
+//! parameterize each chart").
+//!
+//! **Top-down segmentation, driven by the flattening itself.** Every connected component starts
+//! as one chart. A chart is made into a disk (the tree–cotree cut of `mesh::cut` if it is closed
+//! or has handles), flattened, and accepted when the result is valid ([`chart`]: no flipped or
+//! degenerate UV triangle, no crossing boundary edges, L2 stretch ≤ the bound); otherwise it is
+//! split in two by a two-proxy VSA on normals ([`split`], Cohen-Steiner et al. 2004) and both
+//! halves are tried again. This is the reverse of bottom-up chart growing (xatlas; Lévy et al.
+//! 2002 §5's feature-driven growing; Sander et al. 2001's greedy merging of charts by
+//! planarity): instead of guessing from normals how large a chart may grow, the stretch of the
+//! actual flattening decides, so nearly developable regions (cylinders, cones) stay whole even
+//! when their normals spread widely. Single triangles always flatten validly, so the recursion
+//! ends. Charts are processed level by level, the charts of a level in parallel (rayon);
+//! progress is reported (and cancellation checked) between levels.
+//!
+//! **Merging.** Splitting can cut more than needed (a VSA split is only a guess); afterwards,
+//! adjacent charts are merged greedily, smallest union first, whenever the merged chart
+//! flattens validly under the bound — Sander et al. 2001's chart merging with the validity test
+//! as the merge criterion — within a work budget of a few solves of the whole mesh.
+//!
+//! **Packing** ([`pack`]): minimum-area rectangles, skyline bottom-left, uniform scale into the
+//! unit square, margin between charts; every chart keeps its 3D area ratio (uniform texel
+//! density), so the whole atlas's L2 stretch is the area-weighted RMS of the charts' stretches.
+//!
+//! Output: per-corner UVs (atlas vertices: one per chart vertex, each pointing back to its input
+//! vertex), the chart of every triangle, the stretch of every chart and the utilization (fraction
+//! of the unit square covered by charts).
+
+pub mod chart;
+pub mod pack;
+pub mod split;
+
+use crate::error::{Error, Result};
+use crate::mesh::TriMesh;
+use crate::progress::Progress;
+use chart::{flatten_chart, polished, ChartSettings, FlatChart, Refusal};
+use rayon::prelude::*;
+use split::{split_in_two, FaceData};
+
+/// How each chart is flattened.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChartMethod {
+    /// Natural conformal map / LSCM (fast; may flip, then the chart is split).
+    NaturalConformal,
+    /// Mean value map with the boundary on a circle (never flips, more stretch).
+    MeanValue,
+    /// SLIM (symmetric Dirichlet) from the natural conformal map when it does not flip, else
+    /// from the mean value map; never flips.
+    Slim,
+    /// Sander's L2 stretch minimized from the same start; never flips.
+    Stretch,
+}
+
+/// Options of [`atlas`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct AtlasOptions {
+    /// Largest L2 stretch of a chart (≥ 1; `f64::INFINITY` splits only charts that flip or
+    /// overlap themselves).
+    pub max_stretch: f64,
+    /// Gap between charts in the unit square (half of it to the square's sides), in [0, 0.5).
+    pub margin: f64,
+    /// How charts are flattened.
+    pub method: ChartMethod,
+    /// Iterations of the non-linear methods per chart.
+    pub iterations: usize,
+    /// Let the packer rotate charts (to their minimum-area rectangle, and by quarter turns).
+    pub rotate: bool,
+    /// Merge adjacent charts after splitting when the merged chart is still valid.
+    pub merge: bool,
+    /// Iterations of L2-stretch polishing per chart (0: none): a chart slightly over the bound
+    /// is polished before it is judged, and every accepted chart is polished at the end.
+    pub polish: usize,
+}
+
+impl Default for AtlasOptions {
+    fn default() -> Self {
+        AtlasOptions {
+            max_stretch: 1.02,
+            margin: 0.005,
+            method: ChartMethod::NaturalConformal,
+            iterations: 20,
+            rotate: true,
+            merge: true,
+            polish: 10,
+        }
+    }
+}
+
+/// One chart of an atlas.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChartInfo {
+    /// Triangles in the chart.
+    pub triangles: usize,
+    /// L2 stretch of the chart's flattening (before packing; packing scales all charts alike).
+    pub stretch_l2: f64,
+    /// 3D area of the chart.
+    pub area: f64,
+}
+
+/// A packed atlas.
+#[derive(Debug, Clone)]
+pub struct Atlas {
+    /// UV of every atlas vertex, inside the unit square.
+    pub uv: Vec<[f64; 2]>,
+    /// Atlas vertex of each corner of each input triangle (per-corner UV indices).
+    pub triangles: Vec<[u32; 3]>,
+    /// Input vertex of every atlas vertex.
+    pub original: Vec<u32>,
+    /// Chart of every input triangle.
+    pub chart_of_triangle: Vec<u32>,
+    /// Every chart, in chart-id order.
+    pub charts: Vec<ChartInfo>,
+    /// Fraction of the unit square covered by charts.
+    pub utilization: f64,
+    /// L2 stretch of the whole atlas (area-weighted RMS of the charts' stretches).
+    pub stretch_l2: f64,
+}
+
+impl AtlasOptions {
+    fn chart_settings(&self) -> ChartSettings {
+        ChartSettings {
+            method: self.method,
+            iterations: self.iterations,
+            polish: self.polish,
+            max_stretch: self.max_stretch,
+        }
+    }
+}
+
+impl Atlas {
+    /// Per-corner UVs: 3 per input triangle.
+    pub fn corner_uv(&self) -> Vec<[[f64; 2]; 3]> {
+        self.triangles.iter().map(|t| t.map(|v| self.uv[v as usize])).collect()
+    }
+}
+
+fn check_options(options: &AtlasOptions) -> Result<()> {
+    if !(options.max_stretch >= 1.0) {
+        return Err(Error::InvalidArgument(format!(
+            "max_stretch must be ≥ 1 (1 = isometric; got {})",
+            options.max_stretch
+        )));
+    }
+    if !(options.margin >= 0.0 && options.margin < 0.5) {
+        return Err(Error::InvalidArgument(format!("margin must be in [0, 0.5) (got {})", options.margin)));
+    }
+    Ok(())
+}
+
+/// Computes a packed atlas of any manifold mesh (see the module docs).
+pub fn atlas(mesh: &TriMesh, options: &AtlasOptions) -> Result<Atlas> {
+    atlas_with_progress(mesh, options, &mut Progress::none())
+}
+
+/// [`atlas`] with progress reporting and cancellation (between levels of the segmentation).
+pub fn atlas_with_progress(mesh: &TriMesh, options: &AtlasOptions, progress: &mut Progress) -> Result<Atlas> {
+    check_options(options)?;
+    if mesh.triangle_count() == 0 {
+        return Err(Error::InvalidArgument("the mesh has no triangles".into()));
+    }
+    progress.report(0.0)?;
+    let data = FaceData::new(mesh);
+    let mut charts = segment(mesh, &data, options, progress)?;
+    if options.merge && charts.len() > 1 {
+        charts = merge_charts(mesh, charts, options)?;
+    }
+    progress.report(0.9)?;
+    charts = charts.into_par_iter().map(|c| polished(mesh, c, options.polish)).collect::<Result<_>>()?;
+    progress.report(0.95)?;
+    let result = assemble(mesh, charts, options);
+    progress.report(1.0)?;
+    Ok(result)
+}
+
+/// Sorted triangle lists of the connected components.
+fn components(mesh: &TriMesh) -> Vec<Vec<u32>> {
+    let count = mesh.topology().components;
+    let mut parts = vec![Vec::new(); count];
+    for (t, &c) in mesh.triangle_components().iter().enumerate() {
+        parts[c as usize].push(t as u32);
+    }
+    parts.retain(|p| !p.is_empty());
+    parts
+}
+
+/// Top-down: flatten, accept or split, level by level.
+fn segment(mesh: &TriMesh, data: &FaceData, options: &AtlasOptions, progress: &mut Progress) -> Result<Vec<FlatChart>> {
+    let total = mesh.triangle_count() as f64;
+    let mut pending = components(mesh);
+    let mut accepted: Vec<FlatChart> = Vec::new();
+    let mut done = 0usize;
+    let settings = options.chart_settings();
+    while !pending.is_empty() {
+        let outcomes: Vec<Result<std::result::Result<FlatChart, (Vec<u32>, Vec<u32>)>>> = pending
+            .into_par_iter()
+            .map(|faces| {
+                let keep = faces.clone();
+                match flatten_chart(mesh, faces, &settings)? {
+                    Ok(chart) => Ok(Ok(chart)),
+                    Err(_) if keep.len() >= 2 => Ok(Err(split_in_two(mesh, data, &keep))),
+                    Err(refusal) => Err(single_triangle_failure(&keep, refusal)),
+                }
+            })
+            .collect();
+        pending = Vec::new();
+        for outcome in outcomes {
+            match outcome? {
+                Ok(chart) => {
+                    done += chart.faces.len();
+                    accepted.push(chart);
+                }
+                Err((a, b)) => {
+                    pending.push(a);
+                    pending.push(b);
+                }
+            }
+        }
+        progress.report(0.8 * done as f64 / total)?;
+    }
+    Ok(accepted)
+}
+
+fn single_triangle_failure(faces: &[u32], refusal: Refusal) -> Error {
+    Error::Numerical(format!(
+        "triangle {} cannot be flattened validly on its own ({refusal:?}); it is too close to degenerate",
+        faces.first().copied().unwrap_or(0)
+    ))
+}
+
+/// Faces flattened while merging, as a multiple of the mesh's faces: a deterministic work
+/// budget that bounds merging to a few solves of the whole mesh.
+const MERGE_BUDGET: usize = 4;
+
+/// Greedy merging of adjacent charts (see the module docs), in rounds: each round takes the
+/// adjacent pairs from the smallest union up (cheap merges of small fragments first; ties by
+/// longer shared boundary), keeps a matching (no chart in two pairs), flattens the merged charts
+/// in parallel and keeps the valid ones. A pair is tried again only after one of its charts has
+/// grown. Merging stops when no pair is left or the work budget (`MERGE_BUDGET` × the mesh's
+/// triangles flattened) is spent.
+fn merge_charts(mesh: &TriMesh, charts: Vec<FlatChart>, options: &AtlasOptions) -> Result<Vec<FlatChart>> {
+    let mut charts: Vec<Option<FlatChart>> = charts.into_iter().map(Some).collect();
+    let mut version = vec![0u32; charts.len()];
+    let mut owner = vec![0u32; mesh.triangle_count()];
+    for (c, chart) in charts.iter().enumerate() {
+        for &f in chart.iter().flat_map(|c| &c.faces) {
+            owner[f as usize] = c as u32;
+        }
+    }
+    let size = |charts: &[Option<FlatChart>], c: u32| charts[c as usize].as_ref().map_or(0, |c| c.faces.len());
+    let mut budget = MERGE_BUDGET * mesh.triangle_count();
+    let mut tried = std::collections::HashSet::new();
+    let settings = options.chart_settings();
+    while budget > 0 {
+        let mut pairs = shared_boundaries(mesh, &owner);
+        pairs.sort_by(|x, y| {
+            let (sx, sy) =
+                (size(&charts, x.0 .0) + size(&charts, x.0 .1), size(&charts, y.0 .0) + size(&charts, y.0 .1));
+            sx.cmp(&sy).then(y.1.total_cmp(&x.1)).then(x.0.cmp(&y.0))
+        });
+        let mut used = vec![false; charts.len()];
+        let mut candidates = Vec::new();
+        for ((a, b), _) in pairs {
+            let key = (a, version[a as usize], b, version[b as usize]);
+            let cost = size(&charts, a) + size(&charts, b);
+            if used[a as usize] || used[b as usize] || tried.contains(&key) || cost > budget {
+                continue;
+            }
+            budget -= cost;
+            tried.insert(key);
+            used[a as usize] = true;
+            used[b as usize] = true;
+            candidates.push((a, b));
+        }
+        if candidates.is_empty() {
+            break;
+        }
+        let merged: Vec<Result<Option<FlatChart>>> = candidates
+            .par_iter()
+            .map(|&(a, b)| {
+                let (Some(ca), Some(cb)) = (&charts[a as usize], &charts[b as usize]) else { return Ok(None) };
+                let mut faces: Vec<u32> = ca.faces.iter().chain(&cb.faces).copied().collect();
+                faces.sort_unstable();
+                Ok(flatten_chart(mesh, faces, &settings)?.ok())
+            })
+            .collect();
+        for (&(a, b), chart) in candidates.iter().zip(merged) {
+            let Some(chart) = chart? else { continue };
+            for &f in &chart.faces {
+                owner[f as usize] = a;
+            }
+            charts[a as usize] = Some(chart);
+            charts[b as usize] = None;
+            version[a as usize] += 1;
+        }
+    }
+    Ok(charts.into_iter().flatten().collect())
+}
+
+/// Adjacent chart pairs `(a, b)`, `a < b`, with the 3D length of their shared boundary, longest
+/// first.
+fn shared_boundaries(mesh: &TriMesh, owner: &[u32]) -> Vec<((u32, u32), f64)> {
+    let twin = &mesh.connectivity().twin;
+    let mut length: std::collections::HashMap<(u32, u32), f64> = std::collections::HashMap::new();
+    for h in 0..twin.len() as u32 {
+        let g = twin[h as usize];
+        if g == crate::mesh::NONE || g < h {
+            continue;
+        }
+        let (a, b) = (owner[(h / 3) as usize], owner[(g / 3) as usize]);
+        if a != b {
+            let l =
+                crate::geometry::distance(mesh.points()[mesh.tail(h) as usize], mesh.points()[mesh.head(h) as usize]);
+            *length.entry((a.min(b), a.max(b))).or_default() += l;
+        }
+    }
+    let mut pairs: Vec<((u32, u32), f64)> = length.into_iter().collect();
+    pairs.sort_by(|x, y| y.1.total_cmp(&x.1).then(x.0.cmp(&y.0)));
+    pairs
+}
+
+/// Packs the charts and numbers the atlas vertices.
+fn assemble(mesh: &TriMesh, mut charts: Vec<FlatChart>, options: &AtlasOptions) -> Atlas {
+    // Deterministic chart order: by first triangle.
+    charts.sort_by_key(|c| c.faces[0]);
+    let mut layouts: Vec<Vec<[f64; 2]>> = charts.iter().map(|c| c.uv.clone()).collect();
+    let areas: Vec<f64> = charts.iter().map(|c| c.area).collect();
+    let packing = pack::pack(&mut layouts, &areas, options.margin, options.rotate);
+    let mut uv = Vec::new();
+    let mut original = Vec::new();
+    let mut triangles = vec![[0u32; 3]; mesh.triangle_count()];
+    let mut chart_of_triangle = vec![0u32; mesh.triangle_count()];
+    let mut infos = Vec::with_capacity(charts.len());
+    let (mut weighted, mut area) = (0.0, 0.0);
+    for (c, (chart, layout)) in charts.iter().zip(layouts).enumerate() {
+        let offset = uv.len() as u32;
+        uv.extend(layout);
+        original.extend(&chart.original);
+        for (&f, corners) in chart.faces.iter().zip(&chart.corners) {
+            triangles[f as usize] = corners.map(|v| v + offset);
+            chart_of_triangle[f as usize] = c as u32;
+        }
+        infos.push(ChartInfo { triangles: chart.faces.len(), stretch_l2: chart.stretch_l2, area: chart.area });
+        weighted += chart.area * chart.stretch_l2 * chart.stretch_l2;
+        area += chart.area;
+    }
+    Atlas {
+        uv,
+        triangles,
+        original,
+        chart_of_triangle,
+        charts: infos,
+        utilization: packing.utilization,
+        stretch_l2: (weighted / area).sqrt(),
+    }
+}
+
+/// Largest L2 stretch `--cut auto` accepts for a chart. The single disk of a short cut graph
+/// of a closed surface is often valid but useless for texturing (its conformal map shrinks the
+/// far side by orders of magnitude: L2 stretch 10³–10⁶ on the cow, the armadillo and the bunny
+/// scan), so above this bound the mesh is split, like an atlas with this bound. 1.5 keeps most
+/// meshes in one to a few charts, against 1.02 for the atlas default.
+pub const CUT_MAX_STRETCH: f64 = 1.5;
+
+/// What `--cut auto` does with the default method: the mesh (one connected component) cut into
+/// one disk by `mesh::cut` and flattened by the natural conformal map; when that single chart
+/// flips, overlaps itself or has L2 stretch above [`CUT_MAX_STRETCH`], the mesh is instead split
+/// — only where needed — by the top-down segmentation into charts that are all valid and under
+/// that bound (an atlas with `max_stretch = CUT_MAX_STRETCH`), packed into the unit square.
+/// Returns the atlas and whether it had to be split.
+pub fn cut_and_flatten(mesh: &TriMesh, margin: f64) -> Result<(Atlas, bool)> {
+    let options = AtlasOptions { max_stretch: CUT_MAX_STRETCH, margin, ..AtlasOptions::default() };
+    check_options(&options)?;
+    let cut = crate::mesh::cut::cut_to_disk(mesh, &crate::mesh::cut::EdgeCost::default())?;
+    if let Some(chart) = chart::flatten_disk(cut.mesh, cut.original, options.method, options.iterations) {
+        if chart.stretch_l2 <= CUT_MAX_STRETCH {
+            let chart = polished(mesh, chart, options.polish)?;
+            return Ok((assemble(mesh, vec![chart], &options), false));
+        }
+    }
+    Ok((atlas(mesh, &options)?, true))
+}

@@ -1,0 +1,183 @@
+//! Periodic Global Parameterization (Ray, Li, Lévy, Sheffer, Alliez 2006, ACM TOG 25(4)):
+//! two periodic functions θ, φ whose gradients follow a pair of orthogonal fields (by default
+//! the principal curvature directions), on meshes of any genus, with or without boundary,
+//! without cutting. One file per step:
+//!
+//! - [`curvature`]: principal directions (Cohen-Steiner & Morvan 2003 normal-cycle tensor);
+//! - [`smoothing`]: vector field smoothing modulo 2π, π or π/2 (§4.2, eqs. 21–22);
+//! - [`curl`]: curl correction (§4.1, eqs. 17–20);
+//! - [`periodic`]: the periodic energy (§2.3–2.4, eqs. 13–15, Appendix B eq. 24);
+//! - [`solver`]: its minimization (§2.5: linear solve, then Newton on F** with the penalty);
+//! - [`extraction`]: per-triangle (θ, φ) at the corners (§3.1, Algorithm 1);
+//! - [`singularities`]: singular vertices, edges, triangles and indices (§3.2);
+//! - [`quality`]: singular-triangle fraction, stretch, shear, alignment (Table I);
+//! - [`frames`]: tangent frames and rotation matching shared by the steps.
+//!
+//! Not implemented yet: the chart layout (§3.3 Algorithm 2), the re-parameterization of
+//! singular charts (§3.4) and the quad-dominant remesh (§5); [`chart_layout`] and
+//! [`quad_dominant_remesh`] return [`Error::NotImplemented`].
+//!
+//! Pipeline of [`pgp`]: field (curvature directions or the caller's) → optional smoothing →
+//! optional curl correction → periodic solve → per-corner (θ, φ) → singularities.
+
+pub mod curl;
+pub mod curvature;
+pub mod extraction;
+pub mod frames;
+pub mod periodic;
+pub mod quality;
+pub mod singularities;
+pub mod smoothing;
+pub mod solver;
+
+use crate::error::{Error, Result};
+use crate::progress::Progress;
+use crate::TriMesh;
+use curvature::{principal_curvatures, CurvatureOptions};
+use extraction::{corner_parameterization, CornerParameterization};
+use frames::{normalized, scale, tangent_part};
+use singularities::{find_singularities, Singularities};
+use smoothing::{mean_edge_length, smooth_field, SmoothingOptions};
+use solver::{NewtonOptions, SolveReport};
+
+/// Periods per chart edge used by [`default_omega`]: "we set ω to ten times the average edge
+/// length" (§2.2), read as one 2π period per ten mean edge lengths.
+pub const EDGES_PER_PERIOD: f64 = 10.0;
+
+/// Options of [`pgp`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct PgpOptions {
+    /// ω, the frequency: θ grows by ω per unit length along K, so a chart (one 2π period) is
+    /// 2π/ω long. `None`: [`default_omega`].
+    pub omega: Option<f64>,
+    /// The field K per vertex (3 coordinates, projected on the tangent plane, only its
+    /// direction is used). `None`: the maximum principal curvature direction.
+    pub field: Option<Vec<[f64; 3]>>,
+    /// Curvature estimation (also used for the smoothing's anisotropy weights).
+    pub curvature: CurvatureOptions,
+    /// Field smoothing (§4.2); `None` skips it. Default: modulo π/2, ρ = 0.8.
+    pub smoothing: Option<SmoothingOptions>,
+    /// Curl correction (§4.1).
+    pub curl_correction: bool,
+    /// Periodic solve: ε (default 10⁻³), gradient tolerance (10⁻⁶), iterations.
+    pub newton: NewtonOptions,
+}
+
+impl Default for PgpOptions {
+    fn default() -> Self {
+        PgpOptions {
+            omega: None,
+            field: None,
+            curvature: CurvatureOptions::default(),
+            smoothing: Some(SmoothingOptions::default()),
+            curl_correction: false,
+            newton: NewtonOptions::default(),
+        }
+    }
+}
+
+/// Everything PGP computes.
+#[derive(Debug, Clone)]
+pub struct PgpResult {
+    /// (θ, φ) at the corners of every triangle and the integer data behind them.
+    pub param: CornerParameterization,
+    /// Singular elements and indices.
+    pub singularities: Singularities,
+    /// The field K used by the periodic solve, per vertex (after smoothing; times the
+    /// curl-correction scale when enabled).
+    pub field: Vec<[f64; 3]>,
+    /// Unit vertex normals.
+    pub normals: Vec<[f64; 3]>,
+    /// The frequency used.
+    pub omega: f64,
+    /// X = (cos θ, sin θ, cos φ, sin φ) per vertex.
+    pub unknowns: Vec<[f64; 4]>,
+    /// The periodic solve's report.
+    pub solve: SolveReport,
+    /// The smoothing solve's report, when smoothing ran.
+    pub smoothing: Option<SolveReport>,
+}
+
+/// ω = 2π / (10 × mean edge length) (see [`EDGES_PER_PERIOD`]).
+pub fn default_omega(mesh: &TriMesh) -> f64 {
+    std::f64::consts::TAU / (EDGES_PER_PERIOD * mean_edge_length(mesh))
+}
+
+/// Runs PGP (module comment). Errors: bad options or field (naming the vertex), numerical
+/// failures, cancellation.
+pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Result<PgpResult> {
+    let omega = match options.omega {
+        None => default_omega(mesh),
+        Some(w) if w.is_finite() && w > 0.0 => w,
+        Some(w) => return Err(Error::InvalidArgument(format!("omega must be finite and > 0 (got {w})"))),
+    };
+    progress.report(0.0)?;
+    let curvatures = principal_curvatures(mesh, &options.curvature)?;
+    let normals = curvatures.normal.clone();
+    let mut field = match &options.field {
+        Some(f) => tangent_field(mesh, &normals, f)?,
+        None => curvatures.kmax_direction.clone(),
+    };
+    progress.report(0.1)?;
+    let smoothing = match &options.smoothing {
+        Some(s) => {
+            let (smoothed, report) = smooth_field(mesh, &curvatures, &field, s, progress, (0.1, 0.3))?;
+            field = smoothed;
+            Some(report)
+        }
+        None => None,
+    };
+    if options.curl_correction {
+        let v = curl::curl_correction_scale(mesh, &normals, &field)?;
+        field = field.iter().zip(&v).map(|(&k, &s)| scale(k, s)).collect();
+    }
+    progress.report(0.35)?;
+    let (unknowns, solve) =
+        periodic::periodic_solve(mesh, &normals, &field, omega, &options.newton, progress, (0.35, 0.95))?;
+    let param = corner_parameterization(mesh, &normals, &field, &unknowns, omega);
+    let singularities = find_singularities(mesh, &param);
+    progress.report(1.0)?;
+    Ok(PgpResult { param, singularities, field, normals, omega, unknowns, solve, smoothing })
+}
+
+/// The caller's field projected on the tangent planes and normalized; errors name the first
+/// referenced vertex whose vector is not finite or has no tangent part.
+fn tangent_field(mesh: &TriMesh, normals: &[[f64; 3]], field: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+    if field.len() != mesh.vertex_count() {
+        return Err(Error::InvalidArgument(format!(
+            "the field has {} vectors but the mesh has {} vertices",
+            field.len(),
+            mesh.vertex_count()
+        )));
+    }
+    let mut out = vec![[0.0; 3]; field.len()];
+    for v in 0..field.len() {
+        if !mesh.is_referenced(v as u32) {
+            continue;
+        }
+        let k = field[v];
+        if !k.iter().all(|c| c.is_finite()) {
+            return Err(Error::InvalidArgument(format!("field vector of vertex {v} is not finite: {k:?}")));
+        }
+        let t = tangent_part(k, normals[v]);
+        let len = crate::geometry::norm(t);
+        if len <= 1e-9 * crate::geometry::norm(k) || len == 0.0 {
+            return Err(Error::InvalidArgument(format!(
+                "field vector of vertex {v} ({k:?}) has no component tangent to the surface"
+            )));
+        }
+        out[v] = normalized(t);
+    }
+    Ok(out)
+}
+
+/// The chart layout of §3.3 (Algorithm 2) and the re-parameterization of singular charts
+/// (§3.4): not implemented yet.
+pub fn chart_layout(_mesh: &TriMesh, _result: &PgpResult) -> Result<()> {
+    Err(Error::NotImplemented("PGP chart layout (Ray et al. 2006 §3.3–3.4) is not implemented yet"))
+}
+
+/// The quad-dominant remesh of §5: not implemented yet.
+pub fn quad_dominant_remesh(_mesh: &TriMesh, _result: &PgpResult, _density: f64) -> Result<()> {
+    Err(Error::NotImplemented("PGP quad-dominant remeshing (Ray et al. 2006 §5) is not implemented yet"))
+}

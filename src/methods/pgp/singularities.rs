@@ -1,0 +1,282 @@
+//! Singular vertices, edges and triangles of a PGP parameterization (Ray et al. 2006, §3.2) and
+//! the indices of its singular points (Hopf–Poincaré: they sum to 2 − 2g on a closed surface of
+//! genus g).
+//!
+//! From the per-triangle parameterization of §3.1 ([`super::extraction`]):
+//! - a **triangle** is singular when Algorithm 1 around it gives an open path, or when its
+//!   (θ, φ) triangle has non-positive signed area;
+//! - an **edge** (a, b) between triangles T1 and T2 is singular when the transition function of
+//!   eq. 16 computed at a differs from the one computed at b. At a vertex v the transition is
+//!   `τ(p) = P^ρ p + 2π d` with ρ = ρ_T2(v) − ρ_T1(v) and `d = shift_T2(v) − P^ρ shift_T1(v)`,
+//!   P being the quarter turn (θ, φ) → (φ, −θ); both are integers, so the test is exact. (Where
+//!   the transitions agree the edge has the same length on both sides; the paper states the
+//!   test as a length mismatch.)
+//! - an interior **vertex** is singular when the signed (θ, φ) angles at its corners do not sum
+//!   to 2π (tolerance 10⁻⁶ rad).
+//!
+//! Index. The gradient directions ∇θ^T of the per-triangle parameterizations form a field of
+//! crosses (the transitions rotate (θ, φ) by quarter turns). Its index at an interior vertex v
+//! is
+//!
+//! ```text
+//! I(v) = (K_v + Σ Δ_e) / 2π
+//! ```
+//!
+//! with K_v the angle defect (2π minus the 3D corner angles at v) and, for each edge e crossed
+//! counter-clockwise around v from T to T', Δ_e the change of direction after parallel
+//! transport across e (unfolding) minus the transition rotation τ_e·π/2 of eq. 16, reduced
+//! into (−π, π] — the index of a per-face cross field (Ray, Vallet, Li, Lévy 2008), with the
+//! matching given by the parameterization itself. τ_e is the transition of e's first endpoint,
+//! so I(v) is a multiple of 1/4; every Δ_e enters the two endpoints of e with opposite signs,
+//! so discrete Gauss–Bonnet (Σ K_v = 2πχ) gives Σ I(v) = χ = 2 − 2g on every closed mesh.
+//! Where the parameterization is regular around v (transitions telescope, the (θ, φ) star is
+//! planar) I(v) = 0; the vertices with I(v) ≠ 0 are the singular points, and lie on singular
+//! elements.
+//!
+//! Cost: O(F), in parallel.
+
+use super::extraction::CornerParameterization;
+use super::frames::{normalized, triangle_gradient, triangle_normal};
+use crate::geometry::{cross, dot, sub};
+use crate::mesh::NONE;
+use crate::TriMesh;
+use rayon::prelude::*;
+use std::f64::consts::{FRAC_PI_2, TAU};
+
+/// Angle-sum tolerance of the singular-vertex test (radians).
+pub const ANGLE_SUM_TOLERANCE: f64 = 1e-6;
+
+/// The singular elements of a parameterization and the indices of its singular points.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Singularities {
+    /// Interior vertices whose (θ, φ) corner angles do not sum to 2π, ascending.
+    pub vertices: Vec<u32>,
+    /// Interior edges whose transition functions disagree at their endpoints, `[a, b]` with
+    /// a < b, sorted.
+    pub edges: Vec<[u32; 2]>,
+    /// Open or non-positively oriented triangles, ascending.
+    pub triangles: Vec<u32>,
+    /// Index of the cross field of ∇θ at every vertex (0 for boundary and unreferenced ones).
+    pub index: Vec<f64>,
+}
+
+impl Singularities {
+    /// Vertices with a non-zero index and their index (rounded to the nearest quarter).
+    pub fn singular_points(&self) -> Vec<(u32, f64)> {
+        self.index
+            .iter()
+            .enumerate()
+            .filter_map(|(v, &i)| {
+                let q = (4.0 * i).round() / 4.0;
+                (q != 0.0).then_some((v as u32, q))
+            })
+            .collect()
+    }
+
+    /// Σ of the vertex indices.
+    pub fn index_sum(&self) -> f64 {
+        self.index.iter().sum()
+    }
+}
+
+/// Classifies the singular elements of `param` (module comment).
+pub fn find_singularities(mesh: &TriMesh, param: &CornerParameterization) -> Singularities {
+    let triangles = singular_triangles(param);
+    let edges = singular_edges(mesh, param);
+    let vertices = singular_vertices(mesh, param);
+    let index = cross_field_indices(mesh, param);
+    Singularities { vertices, edges, triangles, index }
+}
+
+/// Signed area (times 2) of a (θ, φ) triangle.
+pub fn signed_area2(q: &[[f64; 2]; 3]) -> f64 {
+    (q[1][0] - q[0][0]) * (q[2][1] - q[0][1]) - (q[2][0] - q[0][0]) * (q[1][1] - q[0][1])
+}
+
+fn singular_triangles(param: &CornerParameterization) -> Vec<u32> {
+    (0..param.coords.len() as u32)
+        .filter(|&t| param.open[t as usize] || signed_area2(&param.coords[t as usize]) <= 0.0)
+        .collect()
+}
+
+/// `P^r (s, t)` with P(s, t) = (t, −s).
+#[inline]
+fn rotate_shift(r: u8, s: [i64; 2]) -> [i64; 2] {
+    let mut x = s;
+    for _ in 0..(r % 4) {
+        x = [x[1], -x[0]];
+    }
+    x
+}
+
+/// Transition (ρ, d) from the triangle of corner `(t1, k1)` to that of `(t2, k2)`, both corners
+/// at the same vertex.
+fn transition(param: &CornerParameterization, (t1, k1): (usize, usize), (t2, k2): (usize, usize)) -> (u8, [i64; 2]) {
+    let rho = (4 + param.rotation[t2][k2] - param.rotation[t1][k1]) % 4;
+    let moved = rotate_shift(rho, param.shift[t1][k1]);
+    (rho, [param.shift[t2][k2][0] - moved[0], param.shift[t2][k2][1] - moved[1]])
+}
+
+fn singular_edges(mesh: &TriMesh, param: &CornerParameterization) -> Vec<[u32; 2]> {
+    let twin = &mesh.connectivity().twin;
+    let mut edges: Vec<[u32; 2]> = (0..twin.len())
+        .into_par_iter()
+        .with_min_len(4096)
+        .filter_map(|h| {
+            let g = twin[h] as usize;
+            if twin[h] == NONE || g < h {
+                return None;
+            }
+            // h: a → b in T1 (corner k, k+1); g: b → a in T2.
+            let (t1, k1) = (h / 3, h % 3);
+            let (t2, k2) = (g / 3, g % 3);
+            let at_a = transition(param, (t1, k1), (t2, (k2 + 1) % 3));
+            let at_b = transition(param, (t1, (k1 + 1) % 3), (t2, k2));
+            if at_a == at_b {
+                return None;
+            }
+            let (a, b) = (mesh.tail(h as u32), mesh.head(h as u32));
+            Some([a.min(b), a.max(b)])
+        })
+        .collect();
+    edges.sort_unstable();
+    edges
+}
+
+/// Signed angle of the (θ, φ) triangle `q` at corner `k`.
+fn signed_corner_angle(q: &[[f64; 2]; 3], k: usize) -> f64 {
+    let (a, b, c) = (q[k], q[(k + 1) % 3], q[(k + 2) % 3]);
+    let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+    (e1[0] * e2[1] - e1[1] * e2[0]).atan2(e1[0] * e2[0] + e1[1] * e2[1])
+}
+
+fn singular_vertices(mesh: &TriMesh, param: &CornerParameterization) -> Vec<u32> {
+    (0..mesh.vertex_count() as u32)
+        .into_par_iter()
+        .with_min_len(4096)
+        .filter(|&v| {
+            if !mesh.is_referenced(v) || mesh.is_boundary_vertex(v) {
+                return false;
+            }
+            let sum: f64 = mesh
+                .outgoing_halfedges(v)
+                .map(|h| signed_corner_angle(&param.coords[(h / 3) as usize], (h % 3) as usize))
+                .sum();
+            (sum - TAU).abs() > ANGLE_SUM_TOLERANCE
+        })
+        .collect()
+}
+
+/// The direction of ∇θ^T on every triangle.
+fn gradient_directions(mesh: &TriMesh, param: &CornerParameterization) -> Vec<[f64; 3]> {
+    (0..mesh.triangle_count())
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|t| {
+            let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
+            triangle_gradient(&p, triangle_normal(mesh, t), [0, 1, 2].map(|c| param.coords[t][c][0]))
+        })
+        .collect()
+}
+
+/// The direction angle of each triangle's vector in the triangle's frame (x = edge 0→1,
+/// y = n × x), and the frames.
+fn face_angles(mesh: &TriMesh, directions: &[[f64; 3]]) -> Vec<(f64, [f64; 3], [f64; 3])> {
+    (0..mesh.triangle_count())
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|t| {
+            let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
+            let n = triangle_normal(mesh, t);
+            let x = normalized(sub(p[1], p[0]));
+            let y = cross(n, x);
+            let g = directions[t];
+            (dot(g, y).atan2(dot(g, x)), x, y)
+        })
+        .collect()
+}
+
+/// `x` reduced modulo 2π/k into (−π/k, π/k].
+#[inline]
+fn wrap_symmetric(x: f64, k: u32) -> f64 {
+    let period = TAU / k as f64;
+    let mut y = x - period * (x / period).round();
+    if y <= -period / 2.0 {
+        y += period;
+    }
+    y
+}
+
+/// Index of the ∇θ cross field at every interior vertex (module comment), matching the
+/// directions across each edge by the parameterization's own transition rotation (computed at
+/// the edge's first endpoint) rather than by the nearest quarter turn.
+fn cross_field_indices(mesh: &TriMesh, param: &CornerParameterization) -> Vec<f64> {
+    let frames = face_angles(mesh, &gradient_directions(mesh, param));
+    let change = edge_changes(mesh, &frames, |h, g, d| {
+        let (t1, k1, t2) = (h / 3, h % 3, g / 3);
+        // Corner of the same vertex (tail of h = head of g) in the twin's triangle.
+        let k2 = (g % 3 + 1) % 3;
+        let tau = (4 + param.rotation[t2][k2] - param.rotation[t1][k1]) % 4;
+        super::frames::wrap_angle(d - FRAC_PI_2 * tau as f64)
+    });
+    vertex_indices(mesh, &change)
+}
+
+/// Per half-edge h (with a twin g): the direction change crossing from h's triangle into g's,
+/// `reduce(h, g, a_g − transported a_h)`, antisymmetric (computed once per edge).
+fn edge_changes(
+    mesh: &TriMesh,
+    frames: &[(f64, [f64; 3], [f64; 3])],
+    reduce: impl Fn(usize, usize, f64) -> f64,
+) -> Vec<f64> {
+    let twin = &mesh.connectivity().twin;
+    let mut change = vec![0.0; twin.len()];
+    for h in 0..twin.len() {
+        let g = twin[h];
+        if g == NONE || (g as usize) < h {
+            continue;
+        }
+        let e = sub(mesh.points()[mesh.head(h as u32) as usize], mesh.points()[mesh.tail(h as u32) as usize]);
+        let (a1, x1, y1) = frames[h / 3];
+        let (a2, x2, y2) = frames[g as usize / 3];
+        let psi1 = dot(e, y1).atan2(dot(e, x1));
+        let psi2 = dot(e, y2).atan2(dot(e, x2));
+        let d = reduce(h, g as usize, a2 - (a1 - psi1 + psi2));
+        change[h] = d;
+        change[g as usize] = -d;
+    }
+    change
+}
+
+/// Index at every interior vertex of the field of directions modulo 2π/k given per triangle
+/// (tangent vectors): `(K_v + Σ Δ_e) / 2π` as in the module comment, with Δ_e reduced modulo
+/// 2π/k. Multiples of 1/k summing to χ on a closed mesh. 0 on boundary and unreferenced
+/// vertices.
+pub fn face_field_indices(mesh: &TriMesh, directions: &[[f64; 3]], k: u32) -> Vec<f64> {
+    let frames = face_angles(mesh, directions);
+    let change = edge_changes(mesh, &frames, |_, _, d| wrap_symmetric(d, k));
+    vertex_indices(mesh, &change)
+}
+
+/// `(K_v + Σ change) / 2π` at every interior vertex over the edges crossed counter-clockwise
+/// around it.
+fn vertex_indices(mesh: &TriMesh, change: &[f64]) -> Vec<f64> {
+    let twin = &mesh.connectivity().twin;
+    let angles = mesh.corner_angles();
+    (0..mesh.vertex_count() as u32)
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|v| {
+            if !mesh.is_referenced(v) || mesh.is_boundary_vertex(v) {
+                return 0.0;
+            }
+            let mut total = TAU;
+            for h in mesh.outgoing_halfedges(v) {
+                total -= angles[(h / 3) as usize][(h % 3) as usize];
+                // Counter-clockwise around v, edge h is crossed from twin(h)'s triangle into h's.
+                total += change[twin[h as usize] as usize];
+            }
+            total / TAU
+        })
+        .collect()
+}
