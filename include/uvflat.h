@@ -425,7 +425,7 @@ typedef struct UvfAtlasOptions {
    */
   size_t struct_size;
   /**
-   * Largest L2 stretch of a chart, ≥ 1 (default 1.02); `INFINITY` splits only charts that
+   * Largest L2 stretch of a chart, ≥ 1 (default 1.004); `INFINITY` splits only charts that
    * flip or overlap.
    */
   double max_stretch;

@@ -198,7 +198,7 @@ struct UnwrapArgs {
     /// default; also mean-value, slim, stretch), pack them into the unit square.
     #[arg(long)]
     atlas: bool,
-    /// Atlas mode: largest L2 stretch per chart (default 1.02).
+    /// Atlas mode: largest L2 stretch per chart (default 1.004).
     #[arg(long = "max-stretch")]
     max_stretch: Option<f64>,
     /// Atlas mode (and split cuts): gap between packed charts in the unit square (default 0.005).

@@ -22,7 +22,7 @@ pub const UVF_ATLAS_CHART_STRETCH: u32 = 3;
 pub struct UvfAtlasOptions {
     /// `sizeof(UvfAtlasOptions)`, set by the default initialiser.
     pub struct_size: usize,
-    /// Largest L2 stretch of a chart, ≥ 1 (default 1.02); `INFINITY` splits only charts that
+    /// Largest L2 stretch of a chart, ≥ 1 (default 1.004); `INFINITY` splits only charts that
     /// flip or overlap.
     pub max_stretch: f64,
     /// Gap between charts in the unit square, in [0, 0.5) (default 0.005).

@@ -1156,7 +1156,7 @@ _ATLAS_METHODS = {
 def atlas(
     positions: ArrayLike,
     triangles: ArrayLike,
-    max_stretch: float = 1.02,
+    max_stretch: float = 1.004,
     margin: float = 0.005,
     method: str = "natural_conformal",
     iterations: int = 20,
