@@ -8,13 +8,15 @@
 //!     UVFLAT_BENCH_ABF_MAX_FACES=20000 cargo bench --bench abf  # also original ABF up to 20k
 //!     UVFLAT_BENCH_MESHES=disk_mountain.obj,disk_bimba_cut.obj cargo bench --bench abf
 //!     UVFLAT_BENCH_PLAIN_GN=1 cargo bench --bench abf  # also the paper's plain Gauss–Newton
+//!     UVFLAT_BENCH_ABF_WEIGHTS=inverse cargo bench --bench abf  # w = 1/β instead of 1/β²
+//!     UVFLAT_BENCH_ABF_KRYLOV=40 UVFLAT_BENCH_ABF_MAX_ITERATIONS=30 cargo bench --bench abf
 //!
 //! Times: `TriMesh::new` plus the method (angle optimisation + reconstruction), one run each
 //! (OBJ loading not timed). Threads: as many as rayon gives (printed).
 
 use std::path::Path;
 use std::time::Instant;
-use uvflat::methods::abf::{abf, AbfOptions, AbfVariant};
+use uvflat::methods::abf::{abf, AbfOptions, AbfVariant, AbfWeights};
 use uvflat::metrics::distortion;
 use uvflat::{natural_conformal_map, TriMesh};
 
@@ -53,6 +55,14 @@ fn main() {
     let max_faces = env_usize("UVFLAT_BENCH_MAX_FACES", 100_000);
     let abf_max_faces = env_usize("UVFLAT_BENCH_ABF_MAX_FACES", 0);
     let plain_gn = std::env::var("UVFLAT_BENCH_PLAIN_GN").is_ok_and(|v| v == "1");
+    let krylov = env_usize("UVFLAT_BENCH_ABF_KRYLOV", AbfOptions::default().newton_krylov_steps as usize) as u32;
+    let max_iterations =
+        env_usize("UVFLAT_BENCH_ABF_MAX_ITERATIONS", AbfOptions::default().max_iterations as usize) as u32;
+    let weights = match std::env::var("UVFLAT_BENCH_ABF_WEIGHTS").as_deref() {
+        Ok("inverse") => AbfWeights::Inverse,
+        _ => AbfWeights::InverseSquare,
+    };
+    println!("weights: {weights:?}, Newton–Krylov steps: {krylov}, most iterations: {max_iterations}");
     println!("threads: {}", rayon::current_num_threads());
     println!();
     println!("| mesh | faces | method | iterations | seconds | final ‖∇L‖ | flipped | invalid angles | angle error mean (°) | natural conformal: seconds | angle error mean (°) |");
@@ -66,7 +76,7 @@ fn main() {
         let conformal = natural_conformal_map(&mesh, None).expect("natural conformal");
         let conformal_seconds = start.elapsed().as_secs_f64();
         let conformal_metrics = distortion(&points, &tris, &conformal, &tris).expect("metrics");
-        let mut variants = vec![(AbfVariant::AbfPlusPlus, 20, "ABF++")];
+        let mut variants = vec![(AbfVariant::AbfPlusPlus, krylov, "ABF++")];
         if plain_gn {
             variants.push((AbfVariant::AbfPlusPlus, 0, "ABF++ (Gauss–Newton only)"));
         }
@@ -76,7 +86,8 @@ fn main() {
         for (variant, newton_krylov_steps, label) in variants {
             let start = Instant::now();
             let mesh = TriMesh::new(&obj.positions, &obj.triangles).expect("valid mesh");
-            let options = AbfOptions { variant, newton_krylov_steps, ..AbfOptions::default() };
+            let options =
+                AbfOptions { variant, newton_krylov_steps, weights, max_iterations, ..AbfOptions::default() };
             match abf(&mesh, &options) {
                 Ok(result) => {
                     let seconds = start.elapsed().as_secs_f64();
