@@ -86,8 +86,7 @@ fn main() {
         for (variant, newton_krylov_steps, label) in variants {
             let start = Instant::now();
             let mesh = TriMesh::new(&obj.positions, &obj.triangles).expect("valid mesh");
-            let options =
-                AbfOptions { variant, newton_krylov_steps, weights, max_iterations, ..AbfOptions::default() };
+            let options = AbfOptions { variant, newton_krylov_steps, weights, max_iterations, ..AbfOptions::default() };
             match abf(&mesh, &options) {
                 Ok(result) => {
                     let seconds = start.elapsed().as_secs_f64();

@@ -32,6 +32,7 @@
 
 pub mod chart;
 pub mod pack;
+pub mod raster_pack;
 pub mod split;
 
 use crate::error::{Error, Result};
@@ -325,13 +326,36 @@ fn shared_boundaries(mesh: &TriMesh, owner: &[u32]) -> Vec<((u32, u32), f64)> {
     pairs
 }
 
+/// Packs the charts by the skyline of their rectangles ([`pack::pack`]) and by their rasterized
+/// shapes ([`raster_pack::pack_raster`]) and keeps the layout with the higher utilization (the
+/// raster one wins on most meshes with several charts; the rectangles can win for one or two
+/// nearly rectangular charts, which the raster's pixels pad more).
+fn pack_best(
+    layouts: &mut [Vec<[f64; 2]>],
+    charts: &[FlatChart],
+    areas: &[f64],
+    options: &AtlasOptions,
+) -> pack::Packing {
+    let mut raster = layouts.to_vec();
+    let triangles: Vec<&[[u32; 3]]> = charts.iter().map(|c| c.corners.as_slice()).collect();
+    let shaped = raster_pack::pack_raster(&mut raster, &triangles, areas, options.margin, options.rotate);
+    let skyline = pack::pack(layouts, areas, options.margin, options.rotate);
+    match shaped {
+        Some(p) if p.utilization > skyline.utilization => {
+            layouts.clone_from_slice(&raster);
+            p
+        }
+        _ => skyline,
+    }
+}
+
 /// Packs the charts and numbers the atlas vertices.
 fn assemble(mesh: &TriMesh, mut charts: Vec<FlatChart>, options: &AtlasOptions) -> Atlas {
     // Deterministic chart order: by first triangle.
     charts.sort_by_key(|c| c.faces[0]);
     let mut layouts: Vec<Vec<[f64; 2]>> = charts.iter().map(|c| c.uv.clone()).collect();
     let areas: Vec<f64> = charts.iter().map(|c| c.area).collect();
-    let packing = pack::pack(&mut layouts, &areas, options.margin, options.rotate);
+    let packing = pack_best(&mut layouts, &charts, &areas, options);
     let mut uv = Vec::new();
     let mut original = Vec::new();
     let mut triangles = vec![[0u32; 3]; mesh.triangle_count()];

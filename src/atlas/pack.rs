@@ -21,7 +21,7 @@
 /// Placement of one chart: UV' = scale · (R(θ) · uv + offset), θ such that the chart's minimum
 /// rectangle is axis-aligned.
 #[derive(Debug, Clone, Copy)]
-struct Transform {
+pub(super) struct Transform {
     cos: f64,
     sin: f64,
     /// Translation after rotation (chart units).
@@ -29,7 +29,7 @@ struct Transform {
 }
 
 impl Transform {
-    fn apply(&self, p: [f64; 2]) -> [f64; 2] {
+    pub(super) fn apply(&self, p: [f64; 2]) -> [f64; 2] {
         [self.cos * p[0] - self.sin * p[1] + self.offset[0], self.sin * p[0] + self.cos * p[1] + self.offset[1]]
     }
 }
@@ -86,7 +86,7 @@ pub fn pack(charts: &mut [Vec<[f64; 2]>], areas: &[f64], margin: f64, rotate: bo
 
 /// Rotation putting the chart's minimum-area rectangle (or its bounding box when `rotate` is
 /// false) axis-aligned at the origin, at least as wide as high; returns it and the rectangle.
-fn orient(uv: &[[f64; 2]], rotate: bool) -> (Transform, [f64; 2]) {
+pub(super) fn orient(uv: &[[f64; 2]], rotate: bool) -> (Transform, [f64; 2]) {
     let mut angle = 0.0;
     if rotate {
         let hull = convex_hull(uv);
