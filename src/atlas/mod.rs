@@ -22,8 +22,9 @@
 //! flattens validly under the bound — Sander et al. 2001's chart merging with the validity test
 //! as the merge criterion — within a work budget of a few solves of the whole mesh.
 //!
-//! **Packing** ([`pack`]): minimum-area rectangles, skyline bottom-left, uniform scale into the
-//! unit square, margin between charts; every chart keeps its 3D area ratio (uniform texel
+//! **Packing**: minimum-area rectangles by skyline bottom-left ([`pack`]) and the charts'
+//! rasterized shapes ([`raster_pack`]), the layout with the higher utilization kept; uniform
+//! scale into the unit square, margin between charts; every chart keeps its 3D area ratio (uniform texel
 //! density), so the whole atlas's L2 stretch is the area-weighted RMS of the charts' stretches.
 //!
 //! Output: per-corner UVs (atlas vertices: one per chart vertex, each pointing back to its input

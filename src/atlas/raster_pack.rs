@@ -18,14 +18,20 @@
 //! pixel. With many small charts this is still slow, so a layout is abandoned past
 //! [`MAX_TESTS`] tested positions and not tried above [`MAX_CHARTS`] charts (the skyline
 //! packing is then used). The resolution is fixed per call (about
-//! [`FOOTPRINT_PIXELS`] pixels for the charts' total area), so the result does not depend on
+//! [`FOOTPRINT_PIXELS`] pixels for the charts' total area, fewer on small meshes), so the result does not depend on
 //! the number of threads or on the machine.
 
 use super::pack::{orient, Packing};
 use rayon::prelude::*;
 
-/// Pixels covered by the charts' total area (before growing by the margin).
+/// Pixels covered by the charts' total area (before growing by the margin), at most: small
+/// meshes get [`PIXELS_PER_TRIANGLE`] per triangle (at least [`MIN_FOOTPRINT_PIXELS`]), so that
+/// packing a few hundred triangles does not cost more than flattening them.
 pub const FOOTPRINT_PIXELS: f64 = 100_000.0;
+/// See [`FOOTPRINT_PIXELS`].
+pub const PIXELS_PER_TRIANGLE: f64 = 16.0;
+/// See [`FOOTPRINT_PIXELS`].
+pub const MIN_FOOTPRINT_PIXELS: f64 = 16_000.0;
 
 /// One chart as a bitmap: `rows` of `words` 64-bit words each, bit `x % 64` of word `x / 64` of
 /// row `y` set when pixel (x, y) is covered.
@@ -305,7 +311,7 @@ fn layout(bitmaps: &[Vec<Bitmap>], order: &[usize], width: usize) -> Option<Layo
 
 /// Packs the charts (UV points, modified in place, their triangles and UV areas) into the unit
 /// square with `margin` between charts and half of it to the sides. Returns `None` (charts
-/// untouched) when there is nothing to pack.
+/// untouched) for fewer than two or more than [`MAX_CHARTS`] charts, or past the work budget.
 pub fn pack_raster(
     charts: &mut [Vec<[f64; 2]>],
     triangles: &[&[[u32; 3]]],
@@ -314,7 +320,8 @@ pub fn pack_raster(
     rotate: bool,
 ) -> Option<Packing> {
     let total: f64 = areas.iter().sum();
-    if charts.is_empty() || charts.len() > MAX_CHARTS || !(total > 0.0) {
+    // One chart: its minimum-area rectangle is as good as its shape; nothing to interlock.
+    if charts.len() < 2 || charts.len() > MAX_CHARTS || !(total > 0.0) {
         return None;
     }
     let shapes: Vec<Shape> = charts
@@ -325,7 +332,9 @@ pub fn pack_raster(
             Shape { points: uv.iter().map(|&p| t.apply(p)).collect(), size, triangles: tris }
         })
         .collect();
-    let pixel = (total / FOOTPRINT_PIXELS).sqrt();
+    let triangle_count = triangles.iter().map(|t| t.len()).sum::<usize>() as f64;
+    let footprint = (PIXELS_PER_TRIANGLE * triangle_count).clamp(MIN_FOOTPRINT_PIXELS, FOOTPRINT_PIXELS);
+    let pixel = (total / footprint).sqrt();
     let mut order: Vec<usize> = (0..charts.len()).collect();
     order.sort_by(|&a, &b| areas[b].total_cmp(&areas[a]).then(a.cmp(&b)));
     // The margin is in final units and the final scale depends on the layout: re-derive the
