@@ -16,9 +16,9 @@
 //! whose longest free run is shorter than a chart row's longest run) and positions with 64-pixel
 //! word operations, stopping at the first chart row that collides and jumping to the next free
 //! pixel. With many small charts this is still slow, so a layout is abandoned past
-//! [`MAX_TESTS`] tested positions and not tried above [`MAX_CHARTS`] charts (the skyline
+//! `MAX_TESTS` tested positions and not tried above `MAX_CHARTS` charts (the skyline
 //! packing is then used). The resolution is fixed per call (about
-//! [`FOOTPRINT_PIXELS`] pixels for the charts' total area, fewer on small meshes), so the result does not depend on
+//! `FOOTPRINT_PIXELS` pixels for the charts' total area, fewer on small meshes), so the result does not depend on
 //! the number of threads or on the machine.
 
 use super::pack::{orient, Packing};
@@ -27,11 +27,11 @@ use rayon::prelude::*;
 /// Pixels covered by the charts' total area (before growing by the margin), at most: small
 /// meshes get [`PIXELS_PER_TRIANGLE`] per triangle (at least [`MIN_FOOTPRINT_PIXELS`]), so that
 /// packing a few hundred triangles does not cost more than flattening them.
-pub const FOOTPRINT_PIXELS: f64 = 100_000.0;
+const FOOTPRINT_PIXELS: f64 = 100_000.0;
 /// See [`FOOTPRINT_PIXELS`].
-pub const PIXELS_PER_TRIANGLE: f64 = 16.0;
+const PIXELS_PER_TRIANGLE: f64 = 16.0;
 /// See [`FOOTPRINT_PIXELS`].
-pub const MIN_FOOTPRINT_PIXELS: f64 = 16_000.0;
+const MIN_FOOTPRINT_PIXELS: f64 = 16_000.0;
 
 /// One chart as a bitmap: `rows` of `words` 64-bit words each, bit `x % 64` of word `x / 64` of
 /// row `y` set when pixel (x, y) is covered.
@@ -100,12 +100,12 @@ struct Canvas {
 /// 133-handle cheese) make the position search slow for a small gain over the rectangles; past
 /// this budget the layout is abandoned and the skyline packing is used. Counting tests, not
 /// time, keeps the result deterministic.
-pub const MAX_TESTS: u64 = 4_000_000;
+const MAX_TESTS: u64 = 4_000_000;
 
 /// Above this many charts the raster packing is not tried: on the collection the meshes with
 /// more charts (man 197, chinese_dragon 160, cheese 422) all ran out of [`MAX_TESTS`], which
 /// cost them 0.3–0.5 s for nothing.
-pub const MAX_CHARTS: usize = 150;
+const MAX_CHARTS: usize = 150;
 
 impl Canvas {
     fn new(width: usize) -> Self {
@@ -259,8 +259,14 @@ fn triangle_meets_box(p: &[[f64; 2]; 3], b: [f64; 4]) -> bool {
     if hi_x < b[0] || lo_x > b[2] || hi_y < b[1] || lo_y > b[3] {
         return false;
     }
+    let area = cross(p[0], p[1], p[2]);
+    if area == 0.0 {
+        // A degenerate triangle (valid charts have none): the bounding box decides, which
+        // can only mark more pixels.
+        return true;
+    }
     let corners = [[b[0], b[1]], [b[2], b[1]], [b[2], b[3]], [b[0], b[3]]];
-    let orientation = cross(p[0], p[1], p[2]).signum();
+    let orientation = area.signum();
     (0..3).all(|k| {
         let (a, c) = (p[k], p[(k + 1) % 3]);
         corners.iter().any(|&q| cross(a, c, q) * orientation >= 0.0)
@@ -311,7 +317,7 @@ fn layout(bitmaps: &[Vec<Bitmap>], order: &[usize], width: usize) -> Option<Layo
 
 /// Packs the charts (UV points, modified in place, their triangles and UV areas) into the unit
 /// square with `margin` between charts and half of it to the sides. Returns `None` (charts
-/// untouched) for fewer than two or more than [`MAX_CHARTS`] charts, or past the work budget.
+/// untouched) for fewer than two or more than `MAX_CHARTS` (150) charts, or past the work budget.
 pub fn pack_raster(
     charts: &mut [Vec<[f64; 2]>],
     triangles: &[&[[u32; 3]]],
@@ -395,6 +401,9 @@ mod tests {
         assert!(!triangle_meets_box(&t, [0.6, 0.6, 0.7, 0.7]), "beyond the hypotenuse");
         assert!(triangle_meets_box(&t, [0.5, 0.5, 0.7, 0.7]), "touching the hypotenuse");
         assert!(!triangle_meets_box(&t, [1.1, 0.0, 1.2, 0.1]));
+        let clockwise = [t[0], t[2], t[1]];
+        assert!(!triangle_meets_box(&clockwise, [0.6, 0.6, 0.7, 0.7]), "either orientation");
+        assert!(triangle_meets_box(&[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]], [0.4, 0.4, 0.6, 0.6]), "degenerate");
     }
 
     #[test]
