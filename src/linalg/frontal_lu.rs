@@ -256,15 +256,7 @@ impl SparseLu {
         scratch: &mut Vec<[f64; K]>,
         active: Option<&[bool]>,
     ) -> Result<()> {
-        if x.len() != self.dim() {
-            return Err(Error::Internal(format!("{} rows given to a solve of {} unknowns", x.len(), self.dim())));
-        }
-        if self.dim() == 0 {
-            return Ok(());
-        }
-        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
-            return Err(Error::Internal("LU factors without supernodal structure".into()));
-        };
+        let Some(sn) = super::supernodal_for_solve(&self.symbolic, x.len(), "the LU factor")? else { return Ok(()) };
         let l = supernodal_solve::Factor { sn, values: &self.values, blocks: 2, which: 0, unit_diagonal: true };
         let ut = supernodal_solve::Factor { sn, values: &self.values, blocks: 2, which: 1, unit_diagonal: false };
         if transpose {

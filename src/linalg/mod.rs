@@ -16,6 +16,7 @@ use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::Solve;
 use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
     SymmetricOrdering,
@@ -293,15 +294,7 @@ impl<T: ComplexField + Copy + Send + Sync + Scalar> CholeskySolver<T> {
         scratch: &mut Vec<[T; K]>,
         active: Option<&[bool]>,
     ) -> Result<()> {
-        if x.len() != self.dim() {
-            return Err(Error::Internal(format!("{} rows given to a solve of {} unknowns", x.len(), self.dim())));
-        }
-        if self.dim() == 0 {
-            return Ok(());
-        }
-        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
-            return Err(Error::Internal("the Cholesky factor is not supernodal".into()));
-        };
+        let Some(sn) = supernodal_for_solve(&self.symbolic, x.len(), "the Cholesky factor")? else { return Ok(()) };
         let factor = supernodal_solve::Factor { sn, values: &self.values, blocks: 1, which: 0, unit_diagonal: false };
         factor.forward(x, scratch, active);
         factor.backward_transposed(true, x, scratch);
@@ -315,6 +308,26 @@ fn supernodal() -> CholeskySymbolicParams<'static> {
     CholeskySymbolicParams {
         supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
         ..Default::default()
+    }
+}
+
+/// The supernodal structure of a factor for a solve with `rows` rows: an error when `rows` is
+/// not the factor's dimension or the analysis is not supernodal (`what` names the factor),
+/// `None` for an empty system (nothing to solve).
+pub(crate) fn supernodal_for_solve<'a>(
+    symbolic: &'a SymbolicCholesky<usize>,
+    rows: usize,
+    what: &str,
+) -> Result<Option<&'a SymbolicSupernodalCholesky<usize>>> {
+    if rows != symbolic.nrows() {
+        return Err(Error::Internal(format!("{rows} rows given to a solve of {} unknowns", symbolic.nrows())));
+    }
+    if rows == 0 {
+        return Ok(None);
+    }
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(sn) => Ok(Some(sn)),
+        _ => Err(Error::Internal(format!("{what} is not supernodal"))),
     }
 }
 

@@ -25,6 +25,7 @@
 use super::intrinsic::BoundaryEditor;
 use super::length_area_distortion::{DistortionEnergy, DistortionTerms};
 use super::near_optimal::area_matching_scale;
+use super::nonlinear::lbfgs::{axpy, dot};
 use super::nonlinear::line_search::{max_flip_free_step, MAX_STEP_FRACTION};
 use crate::boundary::{fixed_boundary, BoundaryShape, Distribution};
 use crate::error::{Error, Result};
@@ -93,17 +94,6 @@ pub struct BoundaryOptimizedMap {
 const MEMORY: usize = 8;
 /// Halvings of a rejected step before the direction is given up.
 const MAX_HALVINGS: usize = 40;
-
-fn dot(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
-    a.iter().zip(b).map(|(p, q)| p[0] * q[0] + p[1] * q[1]).sum()
-}
-
-fn axpy(y: &mut [[f64; 2]], a: f64, x: &[[f64; 2]]) {
-    for (p, q) in y.iter_mut().zip(x) {
-        p[0] += a * q[0];
-        p[1] += a * q[1];
-    }
-}
 
 fn moved(x: &[[f64; 2]], t: f64, d: &[[f64; 2]]) -> Vec<[f64; 2]> {
     x.iter().zip(d).map(|(p, q)| [p[0] + t * q[0], p[1] + t * q[1]]).collect()

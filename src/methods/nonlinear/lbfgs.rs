@@ -22,11 +22,13 @@ use std::collections::VecDeque;
 /// Pairs kept by L-BFGS.
 const MEMORY: usize = 8;
 
-fn dot(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
+/// Σ a·b over per-vertex 2-vectors.
+pub(crate) fn dot(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
     a.iter().zip(b).map(|(p, q)| p[0] * q[0] + p[1] * q[1]).sum()
 }
 
-fn axpy(y: &mut [[f64; 2]], a: f64, x: &[[f64; 2]]) {
+/// y += a·x over per-vertex 2-vectors.
+pub(crate) fn axpy(y: &mut [[f64; 2]], a: f64, x: &[[f64; 2]]) {
     for (p, q) in y.iter_mut().zip(x) {
         p[0] += a * q[0];
         p[1] += a * q[1];
