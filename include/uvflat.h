@@ -323,8 +323,9 @@ typedef struct UvfAtlas UvfAtlas;
 typedef struct UvfBoundaryEditor UvfBoundaryEditor;
 
 /**
- * A chart layout of a PGP result (Ray et al. 2006, §3.3–3.4). Not implemented yet: no function
- * creates one.
+ * The chart layout of a PGP result (Ray et al. 2006, §3.3): created by
+ * `uvf_pgp_chart_layout`, read with `uvf_chart_layout_info` and `uvf_chart_layout_copy`,
+ * released with `uvf_chart_layout_free`.
  */
 typedef struct UvfChartLayout UvfChartLayout;
 
@@ -341,8 +342,9 @@ typedef struct UvfCut UvfCut;
 typedef struct UvfPgp UvfPgp;
 
 /**
- * A quad-dominant remesh of a PGP result (Ray et al. 2006, §5). Not implemented yet: no
- * function creates one.
+ * A quad-dominant remesh of a PGP result (Ray et al. 2006, §5): created by
+ * `uvf_pgp_quad_mesh`, read with `uvf_quad_mesh_info` and `uvf_quad_mesh_copy`, released with
+ * `uvf_quad_mesh_free`.
  */
 typedef struct UvfQuadMesh UvfQuadMesh;
 
@@ -1211,6 +1213,50 @@ typedef struct UvfPgpInfo {
   double alignment_degrees;
 } UvfPgpInfo;
 
+/**
+ * Counts of a quad-dominant remesh.
+ */
+typedef struct UvfQuadMeshInfo {
+  /**
+   * Vertices (3 doubles each in `uvf_quad_mesh_copy`).
+   */
+  size_t vertex_count;
+  /**
+   * Faces (polygons).
+   */
+  size_t face_count;
+  /**
+   * Sum of the face sizes (length of the index array).
+   */
+  size_t index_count;
+  /**
+   * Faces with four corners.
+   */
+  size_t quad_count;
+} UvfQuadMeshInfo;
+
+/**
+ * Counts of a chart layout.
+ */
+typedef struct UvfChartLayoutInfo {
+  /**
+   * Chart-boundary polylines.
+   */
+  size_t polyline_count;
+  /**
+   * Points of all polylines (3 doubles each in `uvf_chart_layout_copy`).
+   */
+  size_t point_count;
+  /**
+   * Charts (faces bounded by the polylines).
+   */
+  size_t chart_count;
+  /**
+   * Charts with four corners (the regular ones).
+   */
+  size_t four_corner_chart_count;
+} UvfChartLayoutInfo;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -2065,9 +2111,12 @@ enum UvfStatus uvf_pgp_copy_field(const struct UvfPgp *pgp, double *field_out, s
 void uvf_pgp_free(struct UvfPgp *pgp);
 
 /**
- * Quad-dominant remesh (§5: iso-lines of θ and φ at `density` lines per period, non-quads
- * split). Not implemented yet: returns `UVF_NOT_IMPLEMENTED` (or `UVF_INVALID_ARGUMENT` for a
- * NULL handle or output) and leaves `*mesh_out` untouched.
+ * Quad-dominant remesh (§5): the iso-θ and iso-φ lines at `density` lines per period (a whole
+ * number ≥ 1; quad sides are about 2π / (ω · density) long) as a polygon mesh whose
+ * vertices lie on the input surface; faces that are not quads are split into quads and at
+ * most one triangle. Returns `UVF_OK` (a handle in `*mesh_out`, free it with
+ * `uvf_quad_mesh_free`) or `UVF_INVALID_ARGUMENT` (NULL handle or output, bad density;
+ * `*mesh_out` untouched).
  *
  * # Safety
  * `pgp` must be a live handle or NULL; `mesh_out` must be NULL or writable.
@@ -2077,14 +2126,81 @@ enum UvfStatus uvf_pgp_quad_mesh(const struct UvfPgp *pgp,
                                  struct UvfQuadMesh **mesh_out);
 
 /**
- * Chart layout (§3.3 Algorithm 2: chart boundaries along the iso-2kπ lines; §3.4: singular
- * charts re-parameterized). Not implemented yet: returns `UVF_NOT_IMPLEMENTED` (or
- * `UVF_INVALID_ARGUMENT` for a NULL handle or output) and leaves `*layout_out` untouched.
+ * Counts of a remesh. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; `info_out` writable.
+ */
+enum UvfStatus uvf_quad_mesh_info(const struct UvfQuadMesh *mesh, struct UvfQuadMeshInfo *info_out);
+
+/**
+ * Copies a remesh: `3 × vertex_count` coordinates, `face_count` face sizes and `index_count`
+ * vertex indices (faces counter-clockwise seen from outside). Returns `UVF_OK` or
+ * `UVF_INVALID_ARGUMENT` (NULL, a capacity too small; outputs untouched).
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; each output must hold its capacity.
+ */
+enum UvfStatus uvf_quad_mesh_copy(const struct UvfQuadMesh *mesh,
+                                  double *positions_out,
+                                  size_t positions_capacity,
+                                  uint32_t *face_sizes_out,
+                                  size_t face_sizes_capacity,
+                                  uint32_t *indices_out,
+                                  size_t indices_capacity);
+
+/**
+ * Releases a remesh (NULL is ignored).
+ *
+ * # Safety
+ * `mesh` must come from `uvf_pgp_quad_mesh` and not have been freed.
+ */
+void uvf_quad_mesh_free(struct UvfQuadMesh *mesh);
+
+/**
+ * Chart layout (§3.3, Algorithm 2): the chart boundaries along the iso-2kπ lines of θ and φ
+ * as polylines on the surface between chart corners, and the number of corners of every
+ * chart. (The per-chart re-parameterization of §3.4 is not implemented.) Returns `UVF_OK` (a
+ * handle in `*layout_out`, free it with `uvf_chart_layout_free`) or `UVF_INVALID_ARGUMENT`
+ * (NULL handle or output; `*layout_out` untouched).
  *
  * # Safety
  * `pgp` must be a live handle or NULL; `layout_out` must be NULL or writable.
  */
 enum UvfStatus uvf_pgp_chart_layout(const struct UvfPgp *pgp, struct UvfChartLayout **layout_out);
+
+/**
+ * Counts of a chart layout. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
+ *
+ * # Safety
+ * `layout` must be a live handle or NULL; `info_out` writable.
+ */
+enum UvfStatus uvf_chart_layout_info(const struct UvfChartLayout *layout,
+                                     struct UvfChartLayoutInfo *info_out);
+
+/**
+ * Copies a chart layout: `polyline_count` polyline sizes (points per polyline),
+ * `3 × point_count` coordinates (the polylines concatenated) and `chart_count` corner counts.
+ * Statuses as `uvf_quad_mesh_copy`.
+ *
+ * # Safety
+ * `layout` must be a live handle or NULL; each output must hold its capacity.
+ */
+enum UvfStatus uvf_chart_layout_copy(const struct UvfChartLayout *layout,
+                                     uint32_t *polyline_sizes_out,
+                                     size_t polyline_sizes_capacity,
+                                     double *points_out,
+                                     size_t points_capacity,
+                                     uint32_t *chart_corners_out,
+                                     size_t chart_corners_capacity);
+
+/**
+ * Releases a chart layout (NULL is ignored).
+ *
+ * # Safety
+ * `layout` must come from `uvf_pgp_chart_layout` and not have been freed.
+ */
+void uvf_chart_layout_free(struct UvfChartLayout *layout);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -10,7 +10,7 @@ use std::time::Instant;
 use clap::{Parser, Subcommand, ValueEnum};
 use uvflat::atlas::{atlas, cut_and_flatten, Atlas, AtlasOptions, ChartMethod};
 use uvflat::io::obj::{read_obj, write_obj_with_corner_uv, write_obj_with_uv, ObjMesh};
-use uvflat::io::surface_svg::{write_periodic_svg, PeriodicPicture};
+use uvflat::io::surface_svg::{write_periodic_svg, write_polygon_mesh_svg, PeriodicPicture};
 use uvflat::io::svg::write_uv_svg;
 use uvflat::mesh::cut::{cut_to_disk, total_edge_length, EdgeCost};
 use uvflat::methods::abf::{abf, AbfOptions, AbfVariant};
@@ -21,7 +21,7 @@ use uvflat::methods::near_optimal::{near_optimal_map, NearOptimalOptions};
 use uvflat::methods::nonlinear::{nonlinear_map, NonlinearMethod, NonlinearOptions};
 use uvflat::methods::pgp::quality::quality;
 use uvflat::methods::pgp::smoothing::{SmoothingOptions, Symmetry};
-use uvflat::methods::pgp::{pgp, PgpOptions};
+use uvflat::methods::pgp::{pgp, quad_dominant_remesh, PgpOptions, PolygonMesh};
 use uvflat::methods::spectral_conformal::{spectral_conformal_map, SpectralOptions};
 use uvflat::methods::sphere::{spherical_map, SphereMethod, SphereOptions};
 use uvflat::metrics::{distortion, Metrics};
@@ -85,9 +85,16 @@ struct PgpArgs {
     /// Field smoothing (§4.2): directions equal modulo 2pi, pi or pi/2, or none.
     #[arg(long, value_enum, default_value_t = SmoothName::HalfPi)]
     smooth: SmoothName,
-    /// Quad-dominant remesh output (§5; not implemented yet).
+    /// Write the quad-dominant remesh (§5: iso-lines of θ and φ, non-quads split) to this OBJ.
     #[arg(long = "quad-mesh")]
     quad_mesh: Option<PathBuf>,
+    /// Iso-lines per period for --quad-mesh (a whole number >= 1; quad sides are about
+    /// 2pi / (omega x density) long, 10 / density mean edge lengths with the default omega).
+    #[arg(long = "quad-density", default_value_t = 8.0)]
+    quad_density: f64,
+    /// Draw the quad-dominant remesh into this SVG file (needs --quad-mesh).
+    #[arg(long = "quad-svg")]
+    quad_svg: Option<PathBuf>,
     /// Draw the iso-kπ lines and singularities on the surface into this SVG file.
     #[arg(long)]
     svg: Option<PathBuf>,
@@ -626,11 +633,11 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
             return Err(usage(format!("--omega must be a finite number > 0 (got {w})")));
         }
     }
-    if args.quad_mesh.is_some() {
-        return Err(Failure {
-            message: "--quad-mesh: PGP quad-dominant remeshing (Ray et al. 2006 §5) is not implemented yet".into(),
-            usage: false,
-        });
+    if args.quad_svg.is_some() && args.quad_mesh.is_none() {
+        return Err(usage("--quad-svg needs --quad-mesh"));
+    }
+    if !(args.quad_density >= 1.0 && args.quad_density.fract() == 0.0) {
+        return Err(usage(format!("--quad-density must be a whole number >= 1 (got {})", args.quad_density)));
     }
     let symmetry = match args.smooth {
         SmoothName::None => None,
@@ -667,6 +674,18 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
         };
         write_periodic_svg(svg, &picture)?;
     }
+    let quads = match &args.quad_mesh {
+        Some(path) => {
+            let remesh = quad_dominant_remesh(&mesh, &result, args.quad_density)?;
+            write_polygon_obj(path, &remesh)?;
+            if let Some(svg) = &args.quad_svg {
+                let faces: Vec<Vec<u32>> = remesh.faces().map(|f| f.to_vec()).collect();
+                write_polygon_mesh_svg(svg, &remesh.positions, &faces)?;
+            }
+            Some((remesh.face_sizes.len(), remesh.quad_count(), remesh.positions.len()))
+        }
+        None => None,
+    };
     let s = &result.singularities;
     let genus = mesh.topology().genus;
     if args.json {
@@ -682,6 +701,10 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
                 "final_gradient": result.solve.final_gradient,
                 "stretch": q.stretch, "shear": q.shear, "alignment_degrees": q.alignment_degrees,
                 "output": args.output.display().to_string(),
+                "quad_mesh": quads.map(|(faces, quads, vertices)| serde_json::json!({
+                    "faces": faces, "quads": quads, "vertices": vertices,
+                    "density": args.quad_density,
+                })),
             })
         );
     } else {
@@ -711,8 +734,30 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
             "  stretch / shear / alignment            {:.4} / {:.4} / {:.2}°",
             q.stretch, q.shear, q.alignment_degrees
         );
+        if let (Some((faces, quad_count, vertices)), Some(path)) = (quads, &args.quad_mesh) {
+            println!(
+                "  quad-dominant remesh                   {vertices} vertices, {faces} faces, {:.1}% quads -> {}",
+                100.0 * quad_count as f64 / faces.max(1) as f64,
+                path.display()
+            );
+        }
     }
     Ok(())
+}
+
+/// Writes a polygon mesh as `v` and `f` lines.
+fn write_polygon_obj(path: &Path, mesh: &PolygonMesh) -> Result<(), Failure> {
+    use std::io::Write;
+    let fail = |e: std::io::Error| Failure { message: format!("cannot write {}: {e}", path.display()), usage: false };
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(fail)?);
+    for p in &mesh.positions {
+        writeln!(out, "v {} {} {}", p[0], p[1], p[2]).map_err(fail)?;
+    }
+    for face in mesh.faces() {
+        let line: Vec<String> = face.iter().map(|&v| (v + 1).to_string()).collect();
+        writeln!(out, "f {}", line.join(" ")).map_err(fail)?;
+    }
+    out.flush().map_err(fail)
 }
 
 /// Writes `v` lines (NaN positions of unreferenced vertices as `v 0 0 0`) and `f` lines.

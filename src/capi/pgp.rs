@@ -11,7 +11,7 @@ use crate::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Nei
 use crate::methods::pgp::quality::{quality, Quality};
 use crate::methods::pgp::smoothing::{SmoothingOptions, Symmetry};
 use crate::methods::pgp::solver::NewtonOptions;
-use crate::methods::pgp::{pgp, PgpOptions, PgpResult};
+use crate::methods::pgp::{pgp, ChartLayout, PgpOptions, PgpResult, PolygonMesh};
 use crate::progress::Progress;
 use crate::TriMesh;
 use std::os::raw::c_void;
@@ -482,23 +482,54 @@ pub unsafe extern "C" fn uvf_pgp_free(pgp: *mut UvfPgp) {
     }
 }
 
-/// A quad-dominant remesh of a PGP result (Ray et al. 2006, §5). Not implemented yet: no
-/// function creates one.
+/// A quad-dominant remesh of a PGP result (Ray et al. 2006, §5): created by
+/// `uvf_pgp_quad_mesh`, read with `uvf_quad_mesh_info` and `uvf_quad_mesh_copy`, released with
+/// `uvf_quad_mesh_free`.
 pub struct UvfQuadMesh {
-    #[allow(dead_code)]
-    face_sizes: Vec<u32>,
+    mesh: PolygonMesh,
 }
 
-/// A chart layout of a PGP result (Ray et al. 2006, §3.3–3.4). Not implemented yet: no function
-/// creates one.
+/// Counts of a quad-dominant remesh.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UvfQuadMeshInfo {
+    /// Vertices (3 doubles each in `uvf_quad_mesh_copy`).
+    pub vertex_count: usize,
+    /// Faces (polygons).
+    pub face_count: usize,
+    /// Sum of the face sizes (length of the index array).
+    pub index_count: usize,
+    /// Faces with four corners.
+    pub quad_count: usize,
+}
+
+/// The chart layout of a PGP result (Ray et al. 2006, §3.3): created by
+/// `uvf_pgp_chart_layout`, read with `uvf_chart_layout_info` and `uvf_chart_layout_copy`,
+/// released with `uvf_chart_layout_free`.
 pub struct UvfChartLayout {
-    #[allow(dead_code)]
-    polylines: Vec<u32>,
+    layout: ChartLayout,
 }
 
-/// Quad-dominant remesh (§5: iso-lines of θ and φ at `density` lines per period, non-quads
-/// split). Not implemented yet: returns `UVF_NOT_IMPLEMENTED` (or `UVF_INVALID_ARGUMENT` for a
-/// NULL handle or output) and leaves `*mesh_out` untouched.
+/// Counts of a chart layout.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UvfChartLayoutInfo {
+    /// Chart-boundary polylines.
+    pub polyline_count: usize,
+    /// Points of all polylines (3 doubles each in `uvf_chart_layout_copy`).
+    pub point_count: usize,
+    /// Charts (faces bounded by the polylines).
+    pub chart_count: usize,
+    /// Charts with four corners (the regular ones).
+    pub four_corner_chart_count: usize,
+}
+
+/// Quad-dominant remesh (§5): the iso-θ and iso-φ lines at `density` lines per period (a whole
+/// number ≥ 1; quad sides are about 2π / (ω · density) long) as a polygon mesh whose
+/// vertices lie on the input surface; faces that are not quads are split into quads and at
+/// most one triangle. Returns `UVF_OK` (a handle in `*mesh_out`, free it with
+/// `uvf_quad_mesh_free`) or `UVF_INVALID_ARGUMENT` (NULL handle or output, bad density;
+/// `*mesh_out` untouched).
 ///
 /// # Safety
 /// `pgp` must be a live handle or NULL; `mesh_out` must be NULL or writable.
@@ -510,14 +541,88 @@ pub unsafe extern "C" fn uvf_pgp_quad_mesh(
 ) -> UvfStatus {
     guard(|| {
         let p = unsafe { handle(pgp) }?;
-        borrow_slice_mut(mesh_out, 1, "mesh_out")?;
-        crate::methods::pgp::quad_dominant_remesh(&p.mesh, &p.result, density)
+        let slot = borrow_slice_mut(mesh_out, 1, "mesh_out")?;
+        let mesh = crate::methods::pgp::quad_dominant_remesh(&p.mesh, &p.result, density)?;
+        slot[0] = Box::into_raw(Box::new(UvfQuadMesh { mesh }));
+        Ok(())
     })
 }
 
-/// Chart layout (§3.3 Algorithm 2: chart boundaries along the iso-2kπ lines; §3.4: singular
-/// charts re-parameterized). Not implemented yet: returns `UVF_NOT_IMPLEMENTED` (or
-/// `UVF_INVALID_ARGUMENT` for a NULL handle or output) and leaves `*layout_out` untouched.
+/// Counts of a remesh. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; `info_out` writable.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_quad_mesh_info(mesh: *const UvfQuadMesh, info_out: *mut UvfQuadMeshInfo) -> UvfStatus {
+    guard(|| {
+        // SAFETY: the caller passes a handle from `uvf_pgp_quad_mesh` not yet freed, or NULL.
+        let m =
+            &unsafe { mesh.as_ref() }.ok_or_else(|| Error::InvalidArgument("quad mesh handle is NULL".into()))?.mesh;
+        borrow_slice_mut(info_out, 1, "info_out")?[0] = UvfQuadMeshInfo {
+            vertex_count: m.positions.len(),
+            face_count: m.face_sizes.len(),
+            index_count: m.indices.len(),
+            quad_count: m.quad_count(),
+        };
+        Ok(())
+    })
+}
+
+/// Copies a remesh: `3 × vertex_count` coordinates, `face_count` face sizes and `index_count`
+/// vertex indices (faces counter-clockwise seen from outside). Returns `UVF_OK` or
+/// `UVF_INVALID_ARGUMENT` (NULL, a capacity too small; outputs untouched).
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; each output must hold its capacity.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_quad_mesh_copy(
+    mesh: *const UvfQuadMesh,
+    positions_out: *mut f64,
+    positions_capacity: usize,
+    face_sizes_out: *mut u32,
+    face_sizes_capacity: usize,
+    indices_out: *mut u32,
+    indices_capacity: usize,
+) -> UvfStatus {
+    guard(|| {
+        // SAFETY: as in `uvf_quad_mesh_info`.
+        let m =
+            &unsafe { mesh.as_ref() }.ok_or_else(|| Error::InvalidArgument("quad mesh handle is NULL".into()))?.mesh;
+        check_capacity(positions_capacity, 3 * m.positions.len(), "positions_out")?;
+        check_capacity(face_sizes_capacity, m.face_sizes.len(), "face_sizes_out")?;
+        check_capacity(indices_capacity, m.indices.len(), "indices_out")?;
+        copy_out(m.positions.as_flattened(), positions_out, positions_capacity, "positions_out")?;
+        copy_out(&m.face_sizes, face_sizes_out, face_sizes_capacity, "face_sizes_out")?;
+        copy_out(&m.indices, indices_out, indices_capacity, "indices_out")
+    })
+}
+
+fn check_capacity(capacity: usize, needed: usize, what: &str) -> Result<()> {
+    if capacity < needed {
+        return Err(Error::InvalidArgument(format!("{what} holds {capacity} elements but {needed} are needed")));
+    }
+    Ok(())
+}
+
+/// Releases a remesh (NULL is ignored).
+///
+/// # Safety
+/// `mesh` must come from `uvf_pgp_quad_mesh` and not have been freed.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_quad_mesh_free(mesh: *mut UvfQuadMesh) {
+    if !mesh.is_null() {
+        let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            // SAFETY: the pointer came from Box::into_raw in `uvf_pgp_quad_mesh`.
+            drop(unsafe { Box::from_raw(mesh) });
+        }));
+    }
+}
+
+/// Chart layout (§3.3, Algorithm 2): the chart boundaries along the iso-2kπ lines of θ and φ
+/// as polylines on the surface between chart corners, and the number of corners of every
+/// chart. (The per-chart re-parameterization of §3.4 is not implemented.) Returns `UVF_OK` (a
+/// handle in `*layout_out`, free it with `uvf_chart_layout_free`) or `UVF_INVALID_ARGUMENT`
+/// (NULL handle or output; `*layout_out` untouched).
 ///
 /// # Safety
 /// `pgp` must be a live handle or NULL; `layout_out` must be NULL or writable.
@@ -525,7 +630,79 @@ pub unsafe extern "C" fn uvf_pgp_quad_mesh(
 pub unsafe extern "C" fn uvf_pgp_chart_layout(pgp: *const UvfPgp, layout_out: *mut *mut UvfChartLayout) -> UvfStatus {
     guard(|| {
         let p = unsafe { handle(pgp) }?;
-        borrow_slice_mut(layout_out, 1, "layout_out")?;
-        crate::methods::pgp::chart_layout(&p.mesh, &p.result)
+        let slot = borrow_slice_mut(layout_out, 1, "layout_out")?;
+        let layout = crate::methods::pgp::chart_layout(&p.mesh, &p.result)?;
+        slot[0] = Box::into_raw(Box::new(UvfChartLayout { layout }));
+        Ok(())
     })
+}
+
+/// Counts of a chart layout. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
+///
+/// # Safety
+/// `layout` must be a live handle or NULL; `info_out` writable.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_chart_layout_info(
+    layout: *const UvfChartLayout,
+    info_out: *mut UvfChartLayoutInfo,
+) -> UvfStatus {
+    guard(|| {
+        // SAFETY: the caller passes a handle from `uvf_pgp_chart_layout` not yet freed, or NULL.
+        let l = &unsafe { layout.as_ref() }
+            .ok_or_else(|| Error::InvalidArgument("chart layout handle is NULL".into()))?
+            .layout;
+        borrow_slice_mut(info_out, 1, "info_out")?[0] = UvfChartLayoutInfo {
+            polyline_count: l.polylines.len(),
+            point_count: l.polylines.iter().map(Vec::len).sum(),
+            chart_count: l.chart_corners.len(),
+            four_corner_chart_count: l.chart_corners.iter().filter(|&&c| c == 4).count(),
+        };
+        Ok(())
+    })
+}
+
+/// Copies a chart layout: `polyline_count` polyline sizes (points per polyline),
+/// `3 × point_count` coordinates (the polylines concatenated) and `chart_count` corner counts.
+/// Statuses as `uvf_quad_mesh_copy`.
+///
+/// # Safety
+/// `layout` must be a live handle or NULL; each output must hold its capacity.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_chart_layout_copy(
+    layout: *const UvfChartLayout,
+    polyline_sizes_out: *mut u32,
+    polyline_sizes_capacity: usize,
+    points_out: *mut f64,
+    points_capacity: usize,
+    chart_corners_out: *mut u32,
+    chart_corners_capacity: usize,
+) -> UvfStatus {
+    guard(|| {
+        // SAFETY: as in `uvf_chart_layout_info`.
+        let l = &unsafe { layout.as_ref() }
+            .ok_or_else(|| Error::InvalidArgument("chart layout handle is NULL".into()))?
+            .layout;
+        let sizes: Vec<u32> = l.polylines.iter().map(|p| p.len() as u32).collect();
+        let points: Vec<f64> = l.polylines.iter().flatten().flatten().copied().collect();
+        check_capacity(polyline_sizes_capacity, sizes.len(), "polyline_sizes_out")?;
+        check_capacity(points_capacity, points.len(), "points_out")?;
+        check_capacity(chart_corners_capacity, l.chart_corners.len(), "chart_corners_out")?;
+        copy_out(&sizes, polyline_sizes_out, polyline_sizes_capacity, "polyline_sizes_out")?;
+        copy_out(&points, points_out, points_capacity, "points_out")?;
+        copy_out(&l.chart_corners, chart_corners_out, chart_corners_capacity, "chart_corners_out")
+    })
+}
+
+/// Releases a chart layout (NULL is ignored).
+///
+/// # Safety
+/// `layout` must come from `uvf_pgp_chart_layout` and not have been freed.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_chart_layout_free(layout: *mut UvfChartLayout) {
+    if !layout.is_null() {
+        let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            // SAFETY: the pointer came from Box::into_raw in `uvf_pgp_chart_layout`.
+            drop(unsafe { Box::from_raw(layout) });
+        }));
+    }
 }

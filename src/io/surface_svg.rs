@@ -87,6 +87,62 @@ pub fn periodic_svg_string(picture: &PeriodicPicture<'_>) -> String {
     out
 }
 
+/// Writes a picture of a polygon mesh (the quad-dominant remesh) to `path`: the same view and
+/// shading as [`periodic_svg_string`], quads grey and other faces orange, edges dark.
+pub fn write_polygon_mesh_svg(path: &Path, positions: &[[f64; 3]], faces: &[Vec<u32>]) -> Result<(), Error> {
+    std::fs::write(path, polygon_mesh_svg_string(positions, faces))
+        .map_err(|e| Error::Io { path: path.display().to_string(), message: e.to_string() })
+}
+
+/// The SVG document of [`write_polygon_mesh_svg`].
+pub fn polygon_mesh_svg_string(positions: &[[f64; 3]], faces: &[Vec<u32>]) -> String {
+    let view = normalize(VIEW);
+    let right = normalize(cross([0.0, 0.0, 1.0], view));
+    let up = cross(view, right);
+    let projected: Vec<[f64; 3]> = positions.iter().map(|&p| [dot(p, right), dot(p, up), dot(p, view)]).collect();
+    let (lo, hi) = bounds(&projected);
+    let scale = (PICTURE_SIZE - 2.0 * MARGIN) / (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
+    let to_px = |q: [f64; 3]| [MARGIN + (q[0] - lo[0]) * scale, PICTURE_SIZE - MARGIN - (q[1] - lo[1]) * scale];
+    let mut order: Vec<(f64, usize, f64)> = faces
+        .iter()
+        .enumerate()
+        .filter_map(|(f, face)| {
+            let p: Vec<[f64; 3]> = face.iter().map(|&v| positions[v as usize]).collect();
+            let n = (1..p.len() - 1).fold([0.0; 3], |acc, i| {
+                let c = cross(sub(p[i], p[0]), sub(p[i + 1], p[0]));
+                [acc[0] + c[0], acc[1] + c[1], acc[2] + c[2]]
+            });
+            let facing = dot(n, view) / norm(n).max(f64::MIN_POSITIVE);
+            let depth = face.iter().map(|&v| projected[v as usize][2]).sum::<f64>() / face.len() as f64;
+            (facing > 0.0).then_some((depth, f, facing))
+        })
+        .collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{s}" height="{s}" viewBox="0 0 {s} {s}"><rect width="100%" height="100%" fill="white"/>"#,
+        s = PICTURE_SIZE
+    );
+    for &(_, f, facing) in &order {
+        let light = 0.35 + 0.65 * facing.clamp(0.0, 1.0);
+        let fill = if faces[f].len() == 4 {
+            let g = (230.0 * light) as u8;
+            format!("rgb({g},{g},{g})")
+        } else {
+            format!("rgb({},{},{})", (255.0 * light) as u8, (150.0 * light) as u8, (40.0 * light) as u8)
+        };
+        let mut d = String::new();
+        for (i, &v) in faces[f].iter().enumerate() {
+            let q = to_px(projected[v as usize]);
+            let _ = write!(d, "{}{:.1} {:.1}", if i == 0 { "M" } else { "L" }, q[0], q[1]);
+        }
+        let _ = writeln!(out, r#"<path d="{d}Z" fill="{fill}" stroke="rgb(48,48,48)" stroke-width="0.6"/>"#);
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
 fn normalize(v: [f64; 3]) -> [f64; 3] {
     let l = norm(v);
     [v[0] / l, v[1] / l, v[2] / l]

@@ -4,6 +4,7 @@
 #include "uvflat.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -535,11 +536,58 @@ static void check_pgp(void) {
     check(uvf_pgp_copy_singular_points(pgp, list, indices, info.singular_point_count) == UVF_OK, "copy points");
     check(uvf_pgp_copy_field(pgp, copied_field, 3 * nv) == UVF_OK, "copy field");
     check(uvf_pgp_copy_field(pgp, copied_field, 3 * nv - 1) == UVF_INVALID_ARGUMENT, "too small field capacity");
-    status = uvf_pgp_quad_mesh(pgp, 1.0, &quads);
-    check(status == UVF_NOT_IMPLEMENTED && quads == NULL && strstr(uvf_last_error_message(), "not implemented") != NULL,
-          "quad-dominant remesh is not implemented yet");
+    status = uvf_pgp_quad_mesh(pgp, 4.0, &quads);
+    check(status == UVF_OK && quads != NULL, "quad-dominant remesh of a torus");
+    if (quads != NULL) {
+        UvfQuadMeshInfo qi;
+        check(uvf_quad_mesh_info(quads, &qi) == UVF_OK && qi.face_count > 0 && qi.quad_count * 10 >= qi.face_count * 9,
+              "remesh info: at least 90% quads");
+        double *qpos = malloc(sizeof(double) * 3 * qi.vertex_count);
+        uint32_t *qsizes = malloc(sizeof(uint32_t) * qi.face_count);
+        uint32_t *qidx = malloc(sizeof(uint32_t) * qi.index_count);
+        check(uvf_quad_mesh_copy(quads, qpos, 3 * qi.vertex_count, qsizes, qi.face_count, qidx, qi.index_count - 1) ==
+                  UVF_INVALID_ARGUMENT,
+              "remesh copy rejects a short index array");
+        check(uvf_quad_mesh_copy(quads, qpos, 3 * qi.vertex_count, qsizes, qi.face_count, qidx, qi.index_count) ==
+                  UVF_OK,
+              "remesh copy");
+        size_t sum = 0;
+        ok = 1;
+        for (k = 0; k < qi.face_count; k++) sum += qsizes[k];
+        for (k = 0; k < qi.index_count; k++) ok &= qidx[k] < qi.vertex_count;
+        check(sum == qi.index_count && ok, "remesh face sizes and indices are consistent");
+        free(qpos);
+        free(qsizes);
+        free(qidx);
+        uvf_quad_mesh_free(quads);
+    }
+    uvf_quad_mesh_free(NULL);
+    quads = NULL;
+    status = uvf_pgp_quad_mesh(pgp, 1.5, &quads);
+    check(status == UVF_INVALID_ARGUMENT && quads == NULL && strstr(uvf_last_error_message(), "density") != NULL,
+          "a fractional remesh density is rejected");
     status = uvf_pgp_chart_layout(pgp, &layout);
-    check(status == UVF_NOT_IMPLEMENTED && layout == NULL, "chart layout is not implemented yet");
+    check(status == UVF_OK && layout != NULL, "chart layout of a torus");
+    if (layout != NULL) {
+        UvfChartLayoutInfo li;
+        check(uvf_chart_layout_info(layout, &li) == UVF_OK && li.chart_count > 0 && li.polyline_count > 0,
+              "chart layout info");
+        uint32_t *lsizes = malloc(sizeof(uint32_t) * li.polyline_count);
+        double *lpoints = malloc(sizeof(double) * 3 * li.point_count);
+        uint32_t *lcorners = malloc(sizeof(uint32_t) * li.chart_count);
+        check(uvf_chart_layout_copy(layout, lsizes, li.polyline_count, lpoints, 3 * li.point_count, lcorners,
+                                    li.chart_count) == UVF_OK,
+              "chart layout copy");
+        size_t sum = 0;
+        for (k = 0; k < li.polyline_count; k++) sum += lsizes[k];
+        check(sum == li.point_count && li.four_corner_chart_count > 0 && li.four_corner_chart_count <= li.chart_count,
+              "polyline sizes add up; the torus has four-cornered charts");
+        free(lsizes);
+        free(lpoints);
+        free(lcorners);
+        uvf_chart_layout_free(layout);
+    }
+    uvf_chart_layout_free(NULL);
     check(uvf_pgp_info(NULL, &info) == UVF_INVALID_ARGUMENT, "NULL pgp handle is rejected");
     uvf_pgp_free(pgp);
     uvf_pgp_free(NULL);

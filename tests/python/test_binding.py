@@ -117,7 +117,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 62, sorted(functions)
+    assert len(functions) == 68, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -164,6 +164,8 @@ STRUCTS = {
     "UvfCurvatureOptions": _library.UvfCurvatureOptions,
     "UvfPgpOptions": _library.UvfPgpOptions,
     "UvfPgpInfo": _library.UvfPgpInfo,
+    "UvfQuadMeshInfo": _library.UvfQuadMeshInfo,
+    "UvfChartLayoutInfo": _library.UvfChartLayoutInfo,
 }
 
 
@@ -965,14 +967,25 @@ def test_pgp_rejects_a_bad_field_naming_the_vertex_and_cancels():
         uvflat.pgp(p, t, progress=lambda fraction: fraction < 0.3)
 
 
-def test_pgp_quad_mesh_and_chart_layout_say_they_are_not_implemented():
-    p, t = load_mesh("closed_g1_bob.obj")
-    with pytest.raises(uvflat.NotImplemented, match="quad-dominant"):
-        uvflat.pgp(p, t, quad_mesh=1.0)
-    with pytest.raises(uvflat.NotImplemented, match="chart layout"):
-        uvflat.pgp(p, t, chart_layout=True)
-    cli = run_cli("pgp", str(mesh_path("closed_g1_bob.obj")), "-o", "/dev/null", "--quad-mesh", "q.obj", check=False)
-    assert cli.returncode != 0 and "not implemented" in cli.stderr
+def test_pgp_quad_mesh_is_a_manifold_quad_dominant_mesh_and_the_chart_layout_has_polylines(tmp_path):
+    p, t = load_mesh("closed_g1_torus.obj")
+    r = uvflat.pgp(p, t, quad_mesh=4, chart_layout=True)
+    positions, faces = r.quad_mesh
+    assert len(faces) > 100 and sum(len(f) == 4 for f in faces) >= 0.9 * len(faces)
+    assert all(f.max() < len(positions) for f in faces)
+    directed = {(int(f[i]), int(f[(i + 1) % len(f)])) for f in faces for i in range(len(f))}
+    assert len(directed) == sum(len(f) for f in faces)  # no edge twice in one direction
+    assert all((b, a) in directed for a, b in directed)  # closed
+    polylines, corners = r.chart_layout
+    assert len(polylines) > 0 and all(len(line) >= 2 and line.shape[1] == 3 for line in polylines)
+    assert len(corners) > 0 and (corners == 4).all()
+    with pytest.raises(uvflat.InvalidArgument, match="density"):
+        uvflat.pgp(p, t, quad_mesh=2.5)
+    out = tmp_path / "quad.obj"
+    cli = run_cli("pgp", str(mesh_path("closed_g1_torus.obj")), "-o", "/dev/null", "--quad-mesh", str(out))
+    assert "quad-dominant remesh" in cli.stdout
+    face_lines = [line for line in out.read_text().splitlines() if line.startswith("f ")]
+    assert len(face_lines) > 10 and all(len(line.split()) in (4, 5) for line in face_lines)
 
 
 def test_atlas_of_a_genus_one_mesh_is_flip_free_inside_the_unit_square():

@@ -1027,6 +1027,12 @@ class PgpResult:
     stretch: float  #: L2 stretch of (θ, φ)/ω over the regular triangles
     shear: float  #: mean |cos| of the angle between the parameter directions
     alignment_degrees: float  #: mean angle between the gradients and the field
+    #: the quad-dominant remesh when ``quad_mesh`` was given: ``(positions (k, 3), faces)``,
+    #: ``faces`` a list of vertex-index arrays (counter-clockwise seen from outside)
+    quad_mesh: Optional[Tuple[np.ndarray, List[np.ndarray]]] = None
+    #: the chart layout when ``chart_layout`` was set: ``(polylines, chart_corners)``, the chart
+    #: boundaries as ``(j, 3)`` point arrays and the number of corners of every chart
+    chart_layout: Optional[Tuple[List[np.ndarray], np.ndarray]] = None
 
     @property
     def uv(self) -> np.ndarray:
@@ -1061,9 +1067,10 @@ def pgp(
     ``"pi/2"``), optional curl correction, the periodic solve and the per-corner (θ, φ).
     ``omega`` defaults to 2π / (10 × mean edge length).
 
-    ``quad_mesh`` (iso-lines per period of the quad-dominant remesh, §5) and ``chart_layout``
-    (§3.3–3.4) ask the library for those outputs, which it does not implement yet: with either
-    set, the call raises :class:`uvflat.NotImplemented` after the solve."""
+    ``quad_mesh`` (a whole number of iso-lines per period, e.g. 8) also returns the quad-dominant
+    remesh of §5 (vertices on the surface, non-quads split into quads and triangles; quad sides
+    about 2π / (ω · quad_mesh) long); ``chart_layout=True`` returns the chart boundaries along the
+    iso-2kπ lines (§3.3). The re-parameterization of singular charts (§3.4) is not implemented."""
     p, t = _mesh_arrays(positions, triangles)
     lib = L.library()
     options = L.UvfPgpOptions()
@@ -1086,12 +1093,8 @@ def pgp(
     handle = POINTER(L.UvfPgp)()
     bridge.run(lambda: lib.uvf_pgp(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(coords), byref(handle)))
     try:
-        if quad_mesh is not None:
-            quad = POINTER(L.UvfQuadMesh)()
-            _check(lib.uvf_pgp_quad_mesh(handle, float(quad_mesh), byref(quad)))
-        if chart_layout:
-            layout = POINTER(L.UvfChartLayout)()
-            _check(lib.uvf_pgp_chart_layout(handle, byref(layout)))
+        remesh = _quad_mesh(lib, handle, quad_mesh) if quad_mesh is not None else None
+        layout = _chart_layout(lib, handle) if chart_layout else None
         info = L.UvfPgpInfo()
         _check(lib.uvf_pgp_info(handle, byref(info)))
         vertices = np.empty(info.singular_vertex_count, dtype=np.uint32)
@@ -1122,7 +1125,51 @@ def pgp(
         info.stretch,
         info.shear,
         info.alignment_degrees,
+        remesh,
+        layout,
     )
+
+
+def _split(flat: np.ndarray, sizes: np.ndarray) -> List[np.ndarray]:
+    return np.split(flat, np.cumsum(sizes)[:-1]) if len(sizes) else []
+
+
+def _quad_mesh(lib, handle, density: float) -> Tuple[np.ndarray, List[np.ndarray]]:
+    quad = POINTER(L.UvfQuadMesh)()
+    _check(lib.uvf_pgp_quad_mesh(handle, float(density), byref(quad)))
+    try:
+        info = L.UvfQuadMeshInfo()
+        _check(lib.uvf_quad_mesh_info(quad, byref(info)))
+        positions = np.empty((info.vertex_count, 3), dtype=np.float64)
+        sizes = np.empty(info.face_count, dtype=np.uint32)
+        indices = np.empty(info.index_count, dtype=np.uint32)
+        _check(
+            lib.uvf_quad_mesh_copy(
+                quad, _f64p(positions), positions.size, _u32p(sizes), sizes.size, _u32p(indices), indices.size
+            )
+        )
+    finally:
+        lib.uvf_quad_mesh_free(quad)
+    return positions, _split(indices, sizes)
+
+
+def _chart_layout(lib, handle) -> Tuple[List[np.ndarray], np.ndarray]:
+    layout = POINTER(L.UvfChartLayout)()
+    _check(lib.uvf_pgp_chart_layout(handle, byref(layout)))
+    try:
+        info = L.UvfChartLayoutInfo()
+        _check(lib.uvf_chart_layout_info(layout, byref(info)))
+        sizes = np.empty(info.polyline_count, dtype=np.uint32)
+        points = np.empty((info.point_count, 3), dtype=np.float64)
+        corners = np.empty(info.chart_count, dtype=np.uint32)
+        _check(
+            lib.uvf_chart_layout_copy(
+                layout, _u32p(sizes), sizes.size, _f64p(points), points.size, _u32p(corners), corners.size
+            )
+        )
+    finally:
+        lib.uvf_chart_layout_free(layout)
+    return _split(points, sizes), corners
 
 
 @dataclasses.dataclass(frozen=True)

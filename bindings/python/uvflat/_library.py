@@ -458,8 +458,30 @@ class UvfQuadMesh(Structure):
     """Opaque ``struct UvfQuadMesh`` (only used through pointers)."""
 
 
+class UvfQuadMeshInfo(Structure):
+    """``struct UvfQuadMeshInfo``: counts of a quad-dominant remesh."""
+
+    _fields_ = [
+        ("vertex_count", c_size_t),
+        ("face_count", c_size_t),
+        ("index_count", c_size_t),
+        ("quad_count", c_size_t),
+    ]
+
+
 class UvfChartLayout(Structure):
     """Opaque ``struct UvfChartLayout`` (only used through pointers)."""
+
+
+class UvfChartLayoutInfo(Structure):
+    """``struct UvfChartLayoutInfo``: counts of a chart layout."""
+
+    _fields_ = [
+        ("polyline_count", c_size_t),
+        ("point_count", c_size_t),
+        ("chart_count", c_size_t),
+        ("four_corner_chart_count", c_size_t),
+    ]
 
 
 class UvfBoundaryEditor(Structure):
@@ -588,6 +610,18 @@ PROTOTYPES = {
     "uvf_pgp_free": (None, [POINTER(UvfPgp)]),
     "uvf_pgp_quad_mesh": (UvfStatus, [POINTER(UvfPgp), c_double, POINTER(POINTER(UvfQuadMesh))]),
     "uvf_pgp_chart_layout": (UvfStatus, [POINTER(UvfPgp), POINTER(POINTER(UvfChartLayout))]),
+    "uvf_quad_mesh_info": (UvfStatus, [POINTER(UvfQuadMesh), POINTER(UvfQuadMeshInfo)]),
+    "uvf_quad_mesh_copy": (
+        UvfStatus,
+        [POINTER(UvfQuadMesh), _f64p, c_size_t, _u32p, c_size_t, _u32p, c_size_t],
+    ),
+    "uvf_quad_mesh_free": (None, [POINTER(UvfQuadMesh)]),
+    "uvf_chart_layout_info": (UvfStatus, [POINTER(UvfChartLayout), POINTER(UvfChartLayoutInfo)]),
+    "uvf_chart_layout_copy": (
+        UvfStatus,
+        [POINTER(UvfChartLayout), _u32p, c_size_t, _f64p, c_size_t, _u32p, c_size_t],
+    ),
+    "uvf_chart_layout_free": (None, [POINTER(UvfChartLayout)]),
     "uvf_atlas_options_default": (None, [POINTER(UvfAtlasOptions)]),
     "uvf_atlas": (
         UvfStatus,

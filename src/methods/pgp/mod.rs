@@ -11,11 +11,13 @@
 //! - [`extraction`]: per-triangle (θ, φ) at the corners (§3.1, Algorithm 1);
 //! - [`singularities`]: singular vertices, edges, triangles and indices (§3.2);
 //! - [`quality`]: singular-triangle fraction, stretch, shear, alignment (Table I);
+//! - [`isolines`]: the graph of iso-lines on the surface (§3.3 Algorithm 2, and §5's density);
+//! - [`layout`]: the chart layout, chart boundaries along the iso-2kπ lines (§3.3);
+//! - [`remesh`]: the quad-dominant remesh (§5);
 //! - [`frames`]: tangent frames and rotation matching shared by the steps.
 //!
-//! Not implemented yet: the chart layout (§3.3 Algorithm 2), the re-parameterization of
-//! singular charts (§3.4) and the quad-dominant remesh (§5); [`chart_layout`] and
-//! [`quad_dominant_remesh`] return [`Error::NotImplemented`].
+//! Not implemented yet: the per-chart parameterization and the re-parameterization of
+//! singular charts by mean-value coordinates (§3.4).
 //!
 //! Pipeline of [`pgp`]: field (curvature directions or the caller's) → optional smoothing →
 //! optional curl correction → periodic solve → per-corner (θ, φ) → singularities.
@@ -24,8 +26,11 @@ pub mod curl;
 pub mod curvature;
 pub mod extraction;
 pub mod frames;
+pub mod isolines;
+pub mod layout;
 pub mod periodic;
 pub mod quality;
+pub mod remesh;
 pub mod singularities;
 pub mod smoothing;
 pub mod solver;
@@ -171,13 +176,5 @@ fn tangent_field(mesh: &TriMesh, normals: &[[f64; 3]], field: &[[f64; 3]]) -> Re
     Ok(out)
 }
 
-/// The chart layout of §3.3 (Algorithm 2) and the re-parameterization of singular charts
-/// (§3.4): not implemented yet.
-pub fn chart_layout(_mesh: &TriMesh, _result: &PgpResult) -> Result<()> {
-    Err(Error::NotImplemented("PGP chart layout (Ray et al. 2006 §3.3–3.4) is not implemented yet"))
-}
-
-/// The quad-dominant remesh of §5: not implemented yet.
-pub fn quad_dominant_remesh(_mesh: &TriMesh, _result: &PgpResult, _density: f64) -> Result<()> {
-    Err(Error::NotImplemented("PGP quad-dominant remeshing (Ray et al. 2006 §5) is not implemented yet"))
-}
+pub use layout::{chart_layout, ChartLayout};
+pub use remesh::{quad_dominant_remesh, PolygonMesh};

@@ -111,7 +111,11 @@ fn rotate_shift(r: u8, s: [i64; 2]) -> [i64; 2] {
 
 /// Transition (ρ, d) from the triangle of corner `(t1, k1)` to that of `(t2, k2)`, both corners
 /// at the same vertex.
-fn transition(param: &CornerParameterization, (t1, k1): (usize, usize), (t2, k2): (usize, usize)) -> (u8, [i64; 2]) {
+pub(super) fn transition(
+    param: &CornerParameterization,
+    (t1, k1): (usize, usize),
+    (t2, k2): (usize, usize),
+) -> (u8, [i64; 2]) {
     let rho = (4 + param.rotation[t2][k2] - param.rotation[t1][k1]) % 4;
     let moved = rotate_shift(rho, param.shift[t1][k1]);
     (rho, [param.shift[t2][k2][0] - moved[0], param.shift[t2][k2][1] - moved[1]])

@@ -1,0 +1,81 @@
+//! Time of the whole PGP pipeline (Ray et al. 2006: curvature, smoothing, periodic solve,
+//! extraction, singularities, then the chart layout of §3.3 and the quad-dominant remesh of
+//! §5) on large meshes, as a Markdown table of medians. The target is the full pipeline
+//! on a 200k-face mesh in under 60 s on this 2-core machine (the paper: 17 min for 200k faces
+//! on a 1.7 GHz machine).
+//!
+//!     cargo bench --bench pgp                         # disk_face_libigl_loop1 (207k faces)
+//!     cargo bench --bench pgp -- path/to/mesh.obj     # other meshes
+//!     UVFLAT_PGP_RUNS=1 cargo bench --bench pgp       # runs per mesh (default 3, median)
+//!
+//! Columns: wall seconds of `pgp` (everything up to the singularities), of the chart layout,
+//! of the remesh (8 lines per period), their total, and the remesh's face count and quad share.
+//! The load average before and after is printed: the machine is shared.
+
+use std::path::PathBuf;
+use std::time::Instant;
+use uvflat::methods::pgp::{chart_layout, pgp, quad_dominant_remesh, PgpOptions};
+use uvflat::progress::Progress;
+use uvflat::TriMesh;
+
+const DENSITY: f64 = 8.0;
+
+fn median(mut xs: Vec<f64>) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    xs[xs.len() / 2]
+}
+
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .map_or("?".into(), |s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+}
+
+fn load(path: &PathBuf) -> TriMesh {
+    let obj = uvflat::io::obj::read_obj(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
+    let meshes: Vec<PathBuf> = if args.is_empty() {
+        vec![PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/disk_face_libigl_loop1.obj"))]
+    } else {
+        args.iter().map(PathBuf::from).collect()
+    };
+    let runs: usize = std::env::var("UVFLAT_PGP_RUNS").ok().and_then(|s| s.parse().ok()).unwrap_or(3).max(1);
+    println!("load average before: {}", load_average());
+    println!("| mesh | triangles | pgp s | chart layout s | remesh s | total s | remesh faces | quads |");
+    println!("|---|--:|--:|--:|--:|--:|--:|--:|");
+    for path in &meshes {
+        let mesh = load(path);
+        let (mut solve, mut layout, mut remesh, mut total) = (vec![], vec![], vec![], vec![]);
+        let mut faces = (0, 0);
+        for _ in 0..runs {
+            let start = Instant::now();
+            let r = pgp(&mesh, &PgpOptions::default(), &mut Progress::none()).expect("pgp");
+            let t1 = start.elapsed().as_secs_f64();
+            let l = chart_layout(&mesh, &r).expect("chart layout");
+            let t2 = start.elapsed().as_secs_f64();
+            let q = quad_dominant_remesh(&mesh, &r, DENSITY).expect("remesh");
+            let t3 = start.elapsed().as_secs_f64();
+            std::hint::black_box(&l);
+            faces = (q.face_sizes.len(), q.quad_count());
+            solve.push(t1);
+            layout.push(t2 - t1);
+            remesh.push(t3 - t2);
+            total.push(t3);
+        }
+        let name = path.file_stem().map_or("?".into(), |s| s.to_string_lossy().into_owned());
+        println!(
+            "| {name} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {:.1}% |",
+            mesh.triangle_count(),
+            median(solve),
+            median(layout),
+            median(remesh),
+            median(total),
+            faces.0,
+            100.0 * faces.1 as f64 / faces.0.max(1) as f64
+        );
+    }
+    println!("load average after: {}", load_average());
+}

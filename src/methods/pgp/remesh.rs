@@ -1,0 +1,295 @@
+//! Quad-dominant remeshing from a PGP parameterization (Ray et al. 2006, §5 "Implicit
+//! remeshing"): the iso-θ and iso-φ lines at `density` lines per period ([`super::isolines`])
+//! form the initial polygon mesh; its vertices are the line crossings (grid nodes) and the
+//! points where lines meet the mesh boundary; its faces are the faces of the line graph on
+//! the surface. Faces that are not quadrilaterals (next to singularities, where lines were
+//! removed, §3.2–3.3) are split into quads and at most one triangle by a fan from the corner
+//! that gives the largest smallest angle ("the polygons which are not quadrilateral are split
+//! into a union of quads and triangles"); a T-vertex (a line ending on another) is a corner of
+//! the polygon on its flat side, so that polygon is split with a triangle, as the paper does.
+//!
+//! The output vertices lie on the input surface (inside a triangle or on an edge). Quad sides
+//! are about `2π / (ω · density)` long. Cost: O(F + output).
+
+use super::isolines::{iso_graph, IsoGraph, NodeKind};
+use super::PgpResult;
+use crate::error::Result;
+use crate::geometry::{dot, norm, sub};
+use crate::mesh::NONE;
+use crate::TriMesh;
+use std::collections::{HashMap, HashSet};
+
+/// A polygon mesh: `face_sizes[f]` indices per face, concatenated in `indices`, counter-
+/// clockwise seen from outside the surface.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PolygonMesh {
+    /// Vertex positions.
+    pub positions: Vec<[f64; 3]>,
+    /// Number of corners of every face.
+    pub face_sizes: Vec<u32>,
+    /// Vertex indices of the faces, concatenated.
+    pub indices: Vec<u32>,
+}
+
+impl PolygonMesh {
+    /// Number of faces with four corners.
+    pub fn quad_count(&self) -> usize {
+        self.face_sizes.iter().filter(|&&s| s == 4).count()
+    }
+
+    /// The faces as index slices.
+    pub fn faces(&self) -> impl Iterator<Item = &[u32]> + '_ {
+        let mut start = 0usize;
+        self.face_sizes.iter().map(move |&s| {
+            let face = &self.indices[start..start + s as usize];
+            start += s as usize;
+            face
+        })
+    }
+}
+
+/// The quad-dominant remesh of `result` at `density` lines per period (a whole number ≥ 1).
+pub fn quad_dominant_remesh(mesh: &TriMesh, result: &PgpResult, density: f64) -> Result<PolygonMesh> {
+    let graph = iso_graph(mesh, result, density)?;
+    let mut corner = corner_nodes(&graph);
+    let faces = graph.faces();
+    for v in parallel_side_nodes(&graph, &corner, &faces) {
+        corner[v as usize] = true;
+    }
+    let polygons: Vec<Vec<u32>> = faces
+        .into_iter()
+        .flat_map(|cycle| {
+            simple_polygons(&cycle.into_iter().map(|(v, _)| v).filter(|&v| corner[v as usize]).collect::<Vec<_>>())
+        })
+        .filter(|p| p.len() >= 3)
+        .collect();
+    let polygons = without_pillows(polygons);
+    let mut edges: HashSet<(u32, u32)> = polygons.iter().flat_map(|p| sides(p)).collect();
+    let mut out = PolygonMesh::default();
+    let mut index = vec![NONE; graph.position.len()];
+    for polygon in &polygons {
+        for piece in split_polygon(&graph.position, polygon, &mut edges) {
+            let ids: Vec<u32> = piece.iter().map(|&v| vertex_index(&mut out, &mut index, &graph, v)).collect();
+            out.face_sizes.push(ids.len() as u32);
+            out.indices.extend(ids);
+        }
+    }
+    Ok(out)
+}
+
+/// A side: the graph path from one corner to the next, named by its first arm `(corner,
+/// slot)`.
+type Side = (u32, u8);
+
+/// The path of side `(u, s)`: its interior nodes, its end corner, and the side naming it from
+/// that end.
+fn follow(graph: &IsoGraph, corner: &[bool], (u, s): Side) -> (Vec<u32>, Side) {
+    let mut interior = Vec::new();
+    let mut arm = graph.arms[u as usize][s as usize];
+    while !corner[arm.to as usize] && arm.to != u {
+        let v = arm.to as usize;
+        interior.push(arm.to);
+        let next = (0..graph.arms[v].len()).find(|&k| k != arm.back as usize && graph.arms[v][k].to != NONE);
+        match next {
+            Some(k) => arm = graph.arms[v][k],
+            None => break,
+        }
+    }
+    (interior, (arm.to, arm.back))
+}
+
+/// Nodes to make corners so that no two sides join the same two corners: two such sides
+/// would become one edge of the output (non-manifold where, around a handle or a singular
+/// region, they are not the two sides of a two-cornered face, which is dropped and whose
+/// sides become one edge). The middle node of every such side but one becomes a corner.
+fn parallel_side_nodes(graph: &IsoGraph, corner: &[bool], faces: &[Vec<(u32, u8)>]) -> Vec<u32> {
+    let mut class: HashMap<Side, Side> = HashMap::new();
+    let mut paths: HashMap<Side, (Vec<u32>, (u32, u32))> = HashMap::new();
+    for face in faces {
+        let sides: Vec<Side> = face.iter().copied().filter(|&(v, _)| corner[v as usize]).collect();
+        for &side in &sides {
+            let (interior, back) = follow(graph, corner, side);
+            let name = side.min(back);
+            paths.entry(name).or_insert((interior, undirected(side.0, back.0)));
+            class.entry(name).or_insert(name);
+        }
+        if let [a, b] = sides[..] {
+            let (na, nb) = (canonical_side(graph, corner, a), canonical_side(graph, corner, b));
+            let (ra, rb) = (find(&mut class, na), find(&mut class, nb));
+            class.insert(rb, ra);
+        }
+    }
+    let mut by_ends: HashMap<(u32, u32), Vec<Side>> = HashMap::new();
+    let mut names: Vec<Side> = paths.keys().copied().collect();
+    names.sort_unstable();
+    for name in names {
+        let ends = paths[&name].1;
+        let root = find(&mut class, name);
+        let group = by_ends.entry(ends).or_default();
+        if !group.contains(&root) {
+            group.push(root);
+        }
+    }
+    let mut promote = Vec::new();
+    for (&(a, b), roots) in &by_ends {
+        if a == b || roots.len() < 2 {
+            continue;
+        }
+        // Keep the class of a direct edge (no interior node) if any, else the first.
+        let keep = roots
+            .iter()
+            .position(|r| paths.iter().any(|(n, p)| p.1 == (a, b) && p.0.is_empty() && find_ro(&class, *n) == *r))
+            .unwrap_or(0);
+        for (i, r) in roots.iter().enumerate() {
+            if i == keep {
+                continue;
+            }
+            for (n, p) in &paths {
+                if p.1 == (a, b) && find_ro(&class, *n) == *r && !p.0.is_empty() {
+                    promote.push(p.0[p.0.len() / 2]);
+                }
+            }
+        }
+    }
+    promote
+}
+
+fn canonical_side(graph: &IsoGraph, corner: &[bool], side: Side) -> Side {
+    side.min(follow(graph, corner, side).1)
+}
+
+fn find(class: &mut HashMap<Side, Side>, x: Side) -> Side {
+    let mut r = x;
+    while class[&r] != r {
+        r = class[&r];
+    }
+    class.insert(x, r);
+    r
+}
+
+fn find_ro(class: &HashMap<Side, Side>, x: Side) -> Side {
+    let mut r = x;
+    while class[&r] != r {
+        r = class[&r];
+    }
+    r
+}
+
+/// Drops pairs of polygons that are the same cycle in opposite directions: the two faces on
+/// either side of a closed line that meets no other (a loop around a tube, or an island
+/// in a singular region), which would form a closed two-faced pocket.
+fn without_pillows(polygons: Vec<Vec<u32>>) -> Vec<Vec<u32>> {
+    let key = |p: &[u32]| {
+        let start = (0..p.len()).min_by_key(|&i| p[i]).unwrap_or(0);
+        let n = p.len();
+        let forward: Vec<u32> = (0..n).map(|i| p[(start + i) % n]).collect();
+        let backward: Vec<u32> = (0..n).map(|i| p[(start + n - i) % n]).collect();
+        (forward, backward)
+    };
+    let forward: HashSet<Vec<u32>> = polygons.iter().map(|p| key(p).0).collect();
+    polygons.into_iter().filter(|p| !forward.contains(&key(p).1)).collect()
+}
+
+/// The sides of a polygon as undirected edges.
+fn sides(polygon: &[u32]) -> impl Iterator<Item = (u32, u32)> + '_ {
+    (0..polygon.len()).map(|i| undirected(polygon[i], polygon[(i + 1) % polygon.len()]))
+}
+
+fn undirected(a: u32, b: u32) -> (u32, u32) {
+    (a.min(b), a.max(b))
+}
+
+fn vertex_index(out: &mut PolygonMesh, index: &mut [u32], graph: &IsoGraph, v: u32) -> u32 {
+    if index[v as usize] == NONE {
+        index[v as usize] = out.positions.len() as u32;
+        out.positions.push(graph.position[v as usize]);
+    }
+    index[v as usize]
+}
+
+/// Nodes that are polygon corners: grid nodes except those left with two opposite arms, and
+/// boundary nodes where a line arrives. Crossings of mesh edges are interior points of sides.
+pub fn corner_nodes(graph: &IsoGraph) -> Vec<bool> {
+    (0..graph.position.len())
+        .map(|v| {
+            let present: Vec<usize> = (0..graph.arms[v].len()).filter(|&s| graph.arms[v][s].to != NONE).collect();
+            match graph.kind[v] {
+                NodeKind::Grid => present.len() >= 3 || (present.len() == 2 && present[1] - present[0] != 2),
+                NodeKind::Boundary => present.len() == 3,
+                NodeKind::Crossing => false,
+            }
+        })
+        .collect()
+}
+
+/// Splits a closed walk that visits a vertex twice into simple cycles.
+fn simple_polygons(walk: &[u32]) -> Vec<Vec<u32>> {
+    let mut out = Vec::new();
+    let mut stack: Vec<u32> = Vec::new();
+    for &v in walk {
+        if let Some(pos) = stack.iter().position(|&u| u == v) {
+            out.push(stack.split_off(pos));
+        }
+        stack.push(v);
+    }
+    out.push(stack);
+    out
+}
+
+/// A quad, a triangle, or for more corners a fan of quads (and one triangle when the count is
+/// odd) from the corner that maximizes the smallest angle of the pieces, among the fans whose
+/// diagonals are not edges already (which would make the output non-manifold); the polygon is
+/// kept whole when there is none. The chosen diagonals are added to `edges`.
+fn split_polygon(position: &[[f64; 3]], polygon: &[u32], edges: &mut HashSet<(u32, u32)>) -> Vec<Vec<u32>> {
+    let n = polygon.len();
+    if n <= 4 {
+        return vec![polygon.to_vec()];
+    }
+    let fan = |start: usize| -> Vec<Vec<u32>> {
+        let at = |i: usize| polygon[(start + i) % n];
+        let mut pieces = Vec::new();
+        let mut i = 1;
+        while i + 2 < n {
+            pieces.push(vec![at(0), at(i), at(i + 1), at(i + 2)]);
+            i += 2;
+        }
+        if i + 1 < n {
+            pieces.push(vec![at(0), at(i), at(i + 1)]);
+        }
+        pieces
+    };
+    let score = |pieces: &[Vec<u32>]| pieces.iter().map(|p| smallest_angle(position, p)).fold(f64::INFINITY, f64::min);
+    // A fan's diagonals join its first corner to the last corner of every piece but the last.
+    let diagonals = |pieces: &[Vec<u32>]| -> Vec<(u32, u32)> {
+        pieces[..pieces.len() - 1].iter().map(|p| undirected(p[0], p[p.len() - 1])).collect()
+    };
+    let best = (0..n)
+        .map(fan)
+        .filter(|pieces| diagonals(pieces).iter().all(|d| !edges.contains(d)))
+        .max_by(|a, b| score(a).total_cmp(&score(b)));
+    match best {
+        Some(pieces) => {
+            edges.extend(diagonals(&pieces));
+            pieces
+        }
+        None => vec![polygon.to_vec()],
+    }
+}
+
+/// Smallest corner angle of a polygon in space (radians).
+fn smallest_angle(position: &[[f64; 3]], polygon: &[u32]) -> f64 {
+    let n = polygon.len();
+    (0..n)
+        .map(|i| {
+            let p = position[polygon[i] as usize];
+            let a = sub(position[polygon[(i + n - 1) % n] as usize], p);
+            let b = sub(position[polygon[(i + 1) % n] as usize], p);
+            let denom = norm(a) * norm(b);
+            if denom > 0.0 {
+                (dot(a, b) / denom).clamp(-1.0, 1.0).acos()
+            } else {
+                0.0
+            }
+        })
+        .fold(f64::INFINITY, f64::min)
+}
