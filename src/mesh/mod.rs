@@ -72,10 +72,14 @@ impl TriMesh {
 
     /// Builds a mesh from checked points and triangles and their geometry.
     fn with_geometry(points: Vec<[f64; 3]>, tris: Vec<[u32; 3]>, geometry: TriangleGeometry) -> Result<Self> {
-        validate::check_duplicates(&tris)?;
-        let conn = Connectivity::new(points.len(), &tris)?;
-        let loops = topology::boundary_loops(&tris, &conn);
-        let (component, component_count) = topology::triangle_components(tris.len(), &conn);
+        // Independent passes run side by side; a duplicate triangle is reported before the
+        // connectivity's errors, as when they ran one after the other.
+        let (duplicates, conn) =
+            rayon::join(|| validate::check_duplicates(&tris), || Connectivity::new(points.len(), &tris));
+        duplicates?;
+        let conn = conn?;
+        let (loops, (component, component_count)) =
+            rayon::join(|| topology::boundary_loops(&tris, &conn), || topology::triangle_components(tris.len(), &conn));
         let referenced_count = conn.vertex_halfedge.iter().filter(|&&h| h != NONE).count();
         Ok(TriMesh {
             points,

@@ -394,7 +394,9 @@ impl Builder {
         }
         if let Some(g) = g {
             // Lines seen on g's side only (a mismatch the exact tests rule out): own nodes.
-            for (_, (cj, ej)) in partner {
+            let mut leftover: Vec<((u8, i64), (usize, usize))> = partner.into_iter().collect();
+            leftover.sort_unstable();
+            for (_, (cj, ej)) in leftover {
                 let end = chords[g / 3][cj].ends[ej];
                 let node = self.add_node(lerp(pb, pa, end.t), NodeKind::Crossing, g / 3);
                 ends[g / 3][cj][ej] = (node, 0, boundary_position(g % 3, 0));
