@@ -15,7 +15,7 @@
 mod surfaces;
 
 use std::path::Path;
-use uvflat::geometry::{cross, dot, norm};
+use uvflat::geometry::{cross, dot, norm, sub};
 use uvflat::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
 use uvflat::TriMesh;
 
@@ -491,10 +491,6 @@ fn fans(wedges: &[(u32, u32)]) -> usize {
 
 fn triangle_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     0.5 * norm(cross(sub(b, a), sub(c, a)))
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 fn surface_area(mesh: &TriMesh) -> f64 {

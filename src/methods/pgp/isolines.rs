@@ -564,6 +564,11 @@ impl IsoGraph {
         self.arms[v].iter().filter(|a| a.to != NONE).count()
     }
 
+    /// The present arm of `v` other than `slot` (the way on through a node of valence two).
+    pub fn other_arm(&self, v: usize, slot: usize) -> Option<usize> {
+        (0..self.arms[v].len()).find(|&k| k != slot && self.arms[v][k].to != NONE)
+    }
+
     /// Removes dangling segments: nodes of valence 1, repeatedly (Algorithm 2, last step).
     fn nibble(&mut self) {
         let mut stack: Vec<u32> = (0..self.arms.len() as u32).filter(|&v| self.valence(v as usize) == 1).collect();

@@ -68,7 +68,7 @@ fn walk(graph: &IsoGraph, corner: &[bool], used: &mut [Vec<bool>], v0: usize, s0
             return line;
         }
         // Continue through the other arm of a pass-through node.
-        match (0..graph.arms[v].len()).find(|&k| k != arm.back as usize && graph.arms[v][k].to != NONE) {
+        match graph.other_arm(v, arm.back as usize) {
             Some(k) if !used[v][k] => s = k,
             _ => return line,
         }

@@ -89,8 +89,7 @@ fn follow(graph: &IsoGraph, corner: &[bool], (u, s): Side) -> (Vec<u32>, Side) {
     while !corner[arm.to as usize] && arm.to != u {
         let v = arm.to as usize;
         interior.push(arm.to);
-        let next = (0..graph.arms[v].len()).find(|&k| k != arm.back as usize && graph.arms[v][k].to != NONE);
-        match next {
+        match graph.other_arm(v, arm.back as usize) {
             Some(k) => arm = graph.arms[v][k],
             None => break,
         }
@@ -106,16 +105,16 @@ fn parallel_side_nodes(graph: &IsoGraph, corner: &[bool], faces: &[Vec<(u32, u8)
     let mut class: HashMap<Side, Side> = HashMap::new();
     let mut paths: HashMap<Side, (Vec<u32>, (u32, u32))> = HashMap::new();
     for face in faces {
-        let sides: Vec<Side> = face.iter().copied().filter(|&(v, _)| corner[v as usize]).collect();
-        for &side in &sides {
+        let mut names = Vec::new();
+        for &side in face.iter().filter(|&&(v, _)| corner[v as usize]) {
             let (interior, back) = follow(graph, corner, side);
             let name = side.min(back);
             paths.entry(name).or_insert((interior, undirected(side.0, back.0)));
             class.entry(name).or_insert(name);
+            names.push(name);
         }
-        if let [a, b] = sides[..] {
-            let (na, nb) = (canonical_side(graph, corner, a), canonical_side(graph, corner, b));
-            let (ra, rb) = (find(&mut class, na), find(&mut class, nb));
+        if let [a, b] = names[..] {
+            let (ra, rb) = (find(&class, a), find(&class, b));
             class.insert(rb, ra);
         }
     }
@@ -124,7 +123,7 @@ fn parallel_side_nodes(graph: &IsoGraph, corner: &[bool], faces: &[Vec<(u32, u8)
     names.sort_unstable();
     for name in names {
         let ends = paths[&name].1;
-        let root = find(&mut class, name);
+        let root = find(&class, name);
         let group = by_ends.entry(ends).or_default();
         if !group.contains(&root) {
             group.push(root);
@@ -138,14 +137,14 @@ fn parallel_side_nodes(graph: &IsoGraph, corner: &[bool], faces: &[Vec<(u32, u8)
         // Keep the class of a direct edge (no interior node) if any, else the first.
         let keep = roots
             .iter()
-            .position(|r| paths.iter().any(|(n, p)| p.1 == (a, b) && p.0.is_empty() && find_ro(&class, *n) == *r))
+            .position(|r| paths.iter().any(|(n, p)| p.1 == (a, b) && p.0.is_empty() && find(&class, *n) == *r))
             .unwrap_or(0);
         for (i, r) in roots.iter().enumerate() {
             if i == keep {
                 continue;
             }
             for (n, p) in &paths {
-                if p.1 == (a, b) && find_ro(&class, *n) == *r && !p.0.is_empty() {
+                if p.1 == (a, b) && find(&class, *n) == *r && !p.0.is_empty() {
                     promote.push(p.0[p.0.len() / 2]);
                 }
             }
@@ -154,20 +153,8 @@ fn parallel_side_nodes(graph: &IsoGraph, corner: &[bool], faces: &[Vec<(u32, u8)
     promote
 }
 
-fn canonical_side(graph: &IsoGraph, corner: &[bool], side: Side) -> Side {
-    side.min(follow(graph, corner, side).1)
-}
-
-fn find(class: &mut HashMap<Side, Side>, x: Side) -> Side {
-    let mut r = x;
-    while class[&r] != r {
-        r = class[&r];
-    }
-    class.insert(x, r);
-    r
-}
-
-fn find_ro(class: &HashMap<Side, Side>, x: Side) -> Side {
+/// Root of `x`'s class.
+fn find(class: &HashMap<Side, Side>, x: Side) -> Side {
     let mut r = x;
     while class[&r] != r {
         r = class[&r];
