@@ -45,7 +45,7 @@ pub use boundary::{BoundaryShape, Distribution};
 pub use error::{Error, Result};
 pub use mesh::TriMesh;
 pub use methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions, Weights};
-pub use methods::conformal::natural_conformal_map;
+pub use methods::conformal::{area_weighted_conformal_map, natural_conformal_map};
 pub use methods::nonlinear::{nonlinear_map, NonlinearMethod, NonlinearOptions};
 
 /// Crate version, as reported by `uvf_version()`.

@@ -16,6 +16,9 @@
 //!   agree; on curved meshes each result must be optimal for its own energy: uvflat's Σ|r|²/A no larger
 //!   than CGAL's, and CGAL's Σ|r|² no larger than uvflat's (relative slack `ENERGY_SLACK`).
 //!
+//!   `area_weighted_conformal_map` minimises CGAL's energy (Σ_T A_T·E_C,T = Σ|r|²/8); given the
+//!   same pins it must agree with CGAL's LSCM on every mesh, curved or not.
+//!
 //! Every vertex's UV must agree to 1e-6 of the diagonal of CGAL's UV bounding box. A CGAL run
 //! that fails (for example its iterative solver not converging) is reported, not hidden, and is
 //! not counted as a disagreement; every method must still be compared on at least one mesh.
@@ -38,7 +41,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 use uvflat::{
-    fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, FixedBoundaryOptions, TriMesh, Weights,
+    area_weighted_conformal_map, fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution,
+    FixedBoundaryOptions, TriMesh, Weights,
 };
 
 /// Largest mesh compared (faces).
@@ -69,6 +73,9 @@ struct Row {
     cgal_seconds: Option<f64>,
     uvflat_seconds: Option<f64>,
     outcome: Outcome,
+    /// LSCM rows: deviation of `area_weighted_conformal_map` (CGAL's energy) from CGAL's UVs,
+    /// relative to the UV diagonal, and the worst vertex; its error if it failed.
+    weighted: Option<Result<(f64, usize), String>>,
 }
 
 impl Row {
@@ -152,6 +159,18 @@ fn is_developable(mesh: &TriMesh, boundary: &[u32]) -> bool {
     angle_sum.iter().all(|s| (s - std::f64::consts::TAU).abs() <= 1e-3)
 }
 
+/// CGAL's two LSCM pins with the positions CGAL gave them.
+fn cgal_pins(reference: &Reference) -> Result<[uvflat::methods::conformal::Pin; 2], String> {
+    let (a, b) = reference.pins.ok_or("CGAL's LSCM output names no pins")?;
+    Ok([(a, reference.uv[a as usize]), (b, reference.uv[b as usize])])
+}
+
+/// `area_weighted_conformal_map` with CGAL's pins, against CGAL's LSCM UVs.
+fn weighted_deviation(mesh: &TriMesh, reference: &Reference) -> Result<(f64, usize), String> {
+    let uv = area_weighted_conformal_map(mesh, Some(cgal_pins(reference)?)).map_err(|e| e.to_string())?;
+    Ok(max_relative_deviation(&uv, &reference.uv))
+}
+
 /// uvflat's counterpart of `method`, set up with CGAL's boundary or pins from `reference`.
 fn run_uvflat(
     mesh: &TriMesh,
@@ -164,11 +183,7 @@ fn run_uvflat(
         Method::Dap => Weights::Authalic,
         Method::Mvc => Weights::MeanValue,
         Method::Tutte => Weights::Uniform,
-        Method::Lscm => {
-            let (a, b) = reference.pins.ok_or("CGAL's LSCM output names no pins")?;
-            let pins = [(a, reference.uv[a as usize]), (b, reference.uv[b as usize])];
-            return natural_conformal_map(mesh, Some(pins)).map_err(|e| e.to_string());
-        }
+        Method::Lscm => return natural_conformal_map(mesh, Some(cgal_pins(reference)?)).map_err(|e| e.to_string()),
     };
     let given = boundary.iter().map(|&v| (v, reference.uv[v as usize])).collect();
     let options =
@@ -185,6 +200,7 @@ fn check_mesh(exe: &Path, disk: &DiskMesh) -> Vec<Row> {
         cgal_seconds,
         uvflat_seconds,
         outcome,
+        weighted: None,
     };
     let loaded = cgal::read_plain_obj(&disk.path).and_then(|(positions, triangles)| {
         let mesh = TriMesh::new(&positions, &triangles).map_err(|e| format!("TriMesh::new: {e}"))?;
@@ -228,7 +244,11 @@ fn check_mesh(exe: &Path, disk: &DiskMesh) -> Vec<Row> {
             Ok(uv) => Outcome::UvflatFailed(format!("{} UVs for {vertex_count} vertices", uv.len())),
             Err(e) => Outcome::UvflatFailed(e),
         };
-        rows.push(row(method, Some(reference.seconds), Some(seconds), outcome));
+        let mut done = row(method, Some(reference.seconds), Some(seconds), outcome);
+        if method == Method::Lscm {
+            done.weighted = Some(weighted_deviation(&mesh, &reference));
+        }
+        rows.push(done);
     }
     rows
 }
@@ -403,4 +423,26 @@ fn tutte_map_matches_cgal_barycentric_mapping() {
 #[test]
 fn natural_conformal_map_matches_cgal_lscm() {
     assert_matches_cgal(Method::Lscm);
+}
+
+#[test]
+fn area_weighted_conformal_map_matches_cgal_lscm_on_every_mesh() {
+    let Some(rows) = results() else { return };
+    let compared: Vec<(&Row, &Result<(f64, usize), String>)> =
+        rows.iter().filter_map(|r| r.weighted.as_ref().map(|w| (r, w))).collect();
+    assert!(!compared.is_empty(), "CGAL's LSCM failed on every mesh");
+    for (r, weighted) in &compared {
+        match weighted {
+            Ok((deviation, vertex)) => {
+                println!("{}: area-weighted map vs CGAL LSCM {deviation:.2e} (vertex {vertex})", r.mesh)
+            }
+            Err(e) => println!("{}: area-weighted map failed: {e}", r.mesh),
+        }
+    }
+    let bad: Vec<String> = compared
+        .iter()
+        .filter(|(_, w)| !matches!(w, Ok((d, _)) if *d <= TOLERANCE))
+        .map(|(r, w)| format!("  {}: {w:?}", r.mesh))
+        .collect();
+    assert!(bad.is_empty(), "{} of {} meshes beyond {TOLERANCE:e}:\n{}", bad.len(), compared.len(), bad.join("\n"));
 }

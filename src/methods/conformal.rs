@@ -13,6 +13,18 @@
 //! Pins: by default the two boundary vertices farthest apart in 3D (as in the paper), placed at
 //! (0, 0) and (d, 0) with d their 3D distance, so the map has roughly the input's scale.
 //! Works on any connected genus-0 mesh with one or more boundary loops.
+//!
+//! [`area_weighted_conformal_map`] minimises `Σ_T A_T · E_C,T` instead (each triangle's
+//! conformal energy times its 3D area): the energy of the LSCM equations as CGAL 5.x
+//! (`LSCM_parameterizer_3`, via OpenNL) writes them, one equation
+//! `(Z1 − Z0)(U2 − U0) = (Z2 − Z0)(U1 − U0)` per triangle in a local orthonormal frame and
+//! without Lévy et al.'s 1/√(2A) factor. For a linear map `f(Z) = aZ + b·conj(Z)` on a triangle
+//! the residual of that equation has `|r|² = 16 A² |b|²` while `E_C,T = 2A |b|²`, so CGAL's
+//! `Σ|r|² = 8 Σ A_T E_C,T`. Both energies vanish on developable meshes; on curved meshes the
+//! area weighting favours large triangles and is not invariant to remeshing, which is why the
+//! paper's `E_C` is the default. The weighted energy has an imaginary part on interior edges
+//! too (`½(A_T − A_T')` between the triangles on either side), so it takes the all-complex
+//! factorization. It exists to reproduce CGAL's LSCM for the same pins.
 
 use crate::error::{Error, Result};
 use crate::geometry::distance;
@@ -51,6 +63,18 @@ pub fn natural_conformal_map_with_progress(
     Ok(uv)
 }
 
+/// The conformal map of CGAL's LSCM energy (see the module comment): minimises
+/// `Σ_T A_T · E_C,T` with the given pins (`None`: the farthest boundary pair). One UV per vertex
+/// (NaN for unreferenced vertices).
+pub fn area_weighted_conformal_map(mesh: &TriMesh, pins: Option<[Pin; 2]>) -> Result<Vec<[f64; 2]>> {
+    let pins = resolve_pins(mesh, pins)?;
+    let mut system =
+        ConformalSystem::with_triangle_weights(mesh, &pins, &mesh.geometry().cot, Some(&mesh.geometry().area))?;
+    let coords = system.unknowns.positions(mesh);
+    HermitianSolver::new(&system.matrix, &coords)?.solve_in_place(&mut system.rhs)?;
+    system.uv(mesh)
+}
+
 /// The natural conformal map's linear system `H_ff z_f = −H_fp z_p` over the free vertices.
 pub struct ConformalSystem {
     /// Numbering of the free vertices (rows of the system).
@@ -79,12 +103,23 @@ impl ConformalSystem {
     /// triangle `t`): its minimiser makes every uv triangle as similar as possible to the
     /// triangle with those angles (ABF++'s angle-to-uv step, `methods::abf`).
     pub fn with_cotangents(mesh: &TriMesh, pins: &[Pin], cot: &[[f64; 3]]) -> Result<Self> {
+        Self::with_triangle_weights(mesh, pins, cot, None)
+    }
+
+    /// The system of `Σ_T w_T · E_C,T` (`None`: every `w_T = 1`, the natural conformal map).
+    pub fn with_triangle_weights(
+        mesh: &TriMesh,
+        pins: &[Pin],
+        cot: &[[f64; 3]],
+        weights: Option<&[f64]>,
+    ) -> Result<Self> {
         let mut pinned = vec![None; mesh.vertex_count()];
         for &(v, p) in pins {
             pinned[v as usize] = Some(c64::new(p[0], p[1]));
         }
         let unknowns = Unknowns::free_vertices(mesh, |v| pinned[v as usize].is_some());
-        let (matrix, rhs) = assemble_conformal_system(mesh, cot, &unknowns.index, unknowns.count(), &pinned)?;
+        let terms = EdgeWeights { cot, triangle: weights };
+        let (matrix, rhs) = assemble_conformal_system(mesh, &terms, &unknowns.index, unknowns.count(), &pinned)?;
         Ok(ConformalSystem { unknowns, pinned, matrix, rhs })
     }
 
@@ -178,15 +213,35 @@ pub fn farthest_pair(points: &[[f64; 3]], candidates: &[u32]) -> (u32, u32) {
     (a, b)
 }
 
+/// The per-corner cotangents and optional per-triangle weights the system is assembled from.
+struct EdgeWeights<'a> {
+    cot: &'a [[f64; 3]],
+    triangle: Option<&'a [f64]>,
+}
+
+impl EdgeWeights<'_> {
+    /// Weight of the triangle holding half-edge `h` (1 without weights).
+    fn of_halfedge(&self, h: u32) -> f64 {
+        self.triangle.map_or(1.0, |w| w[(h / 3) as usize])
+    }
+
+    /// Half the cotangent of the corner opposite half-edge `h`, times its triangle's weight.
+    fn half_cot(&self, h: u32) -> f64 {
+        0.5 * self.of_halfedge(h) * self.cot[(h / 3) as usize][((h % 3 + 2) % 3) as usize]
+    }
+}
+
 /// Lower triangle of `H` over the free vertices and the right-hand side `−H_fp z_p`, assembled
 /// edge by edge: each edge (one half-edge per edge) gives its cotangent weight
-/// `w = ½(cot α + cot β)` to both diagonals and `H_ab = −w (+ i/2 on a boundary edge a→b)`,
-/// `H_ba = conj(H_ab)` off the diagonal (or to the right-hand side when one end is pinned).
+/// `w = ½(cot α + cot β)` to both diagonals and `H_ab = −w + i/2·(w_T − w_T')` off the diagonal
+/// (T holding a→b, T' holding b→a, `w_T' = 0` across the boundary: without triangle weights the
+/// imaginary part is i/2 on boundary edges only), `H_ba = conj(H_ab)` (or to the right-hand side
+/// when one end is pinned).
 /// The half-edges are split into a fixed number of ranges assembled in parallel (fixed, so the
 /// sums do not depend on the number of threads).
 fn assemble_conformal_system(
     mesh: &TriMesh,
-    cot: &[[f64; 3]],
+    weights: &EdgeWeights,
     index: &[u32],
     count: usize,
     pinned: &[Option<c64>],
@@ -197,7 +252,7 @@ fn assemble_conformal_system(
     let parts: Vec<EdgeTerms> = (0..RANGES)
         .into_par_iter()
         .map(|k| {
-            edge_terms(mesh, cot, index, count, pinned, (k * step).min(halfedges)..((k + 1) * step).min(halfedges))
+            edge_terms(mesh, weights, index, count, pinned, (k * step).min(halfedges)..((k + 1) * step).min(halfedges))
         })
         .collect();
     let mut diagonal = vec![c64::new(0.0, 0.0); count];
@@ -231,15 +286,13 @@ struct EdgeTerms {
 /// two) lies in `halfedges`.
 fn edge_terms(
     mesh: &TriMesh,
-    cot: &[[f64; 3]],
+    weights: &EdgeWeights,
     index: &[u32],
     count: usize,
     pinned: &[Option<c64>],
     halfedges: std::ops::Range<usize>,
 ) -> EdgeTerms {
     let twin = &mesh.connectivity().twin;
-    // Half the cotangent of the corner opposite half-edge h.
-    let half_cot = |h: u32| 0.5 * cot[(h / 3) as usize][((h % 3 + 2) % 3) as usize];
     let mut terms =
         EdgeTerms { diagonal: vec![0.0; count], lower: Vec::with_capacity(halfedges.len() / 2 + 1), rhs: Vec::new() };
     for h in halfedges {
@@ -248,8 +301,11 @@ fn edge_terms(
             continue;
         }
         let (a, b) = (mesh.tail(h), mesh.head(h));
-        let w = half_cot(h) + if t == NONE { 0.0 } else { half_cot(t) };
-        let h_ab = c64::new(-w, if t == NONE { 0.5 } else { 0.0 });
+        let (w, area) = match t {
+            NONE => (weights.half_cot(h), 0.5 * weights.of_halfedge(h)),
+            t => (weights.half_cot(h) + weights.half_cot(t), 0.5 * (weights.of_halfedge(h) - weights.of_halfedge(t))),
+        };
+        let h_ab = c64::new(-w, area);
         let (ra, rb) = (index[a as usize], index[b as usize]);
         for r in [ra, rb] {
             if r != NONE {
@@ -280,9 +336,16 @@ mod tests {
     use super::*;
     use crate::linalg::TripletBuilder;
 
-    /// The triplet assembly this file's edge-by-edge assembly replaced: per triangle corner, then
-    /// per boundary half-edge.
-    fn reference(mesh: &TriMesh, index: &[u32], count: usize, pinned: &[Option<c64>]) -> (Vec<Vec<c64>>, Vec<c64>) {
+    /// Triplet assembly per triangle: each corner's cotangent term and each half-edge's signed
+    /// area term `±i/2`, all times the triangle's weight (interior area terms cancel pairwise
+    /// when the weights are equal, leaving the boundary's).
+    fn reference(
+        mesh: &TriMesh,
+        index: &[u32],
+        count: usize,
+        pinned: &[Option<c64>],
+        weights: &[f64],
+    ) -> (Vec<Vec<c64>>, Vec<c64>) {
         let mut h = TripletBuilder::<c64>::with_capacity(count, 9 * mesh.triangle_count());
         let mut rhs = vec![c64::new(0.0, 0.0); count];
         let mut add = |i: u32, j: u32, value: c64| {
@@ -304,18 +367,14 @@ mod tests {
         for (t, tri) in mesh.triangles().iter().enumerate() {
             for k in 0..3 {
                 let (i, j) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
-                let w = 0.5 * g.cot[t][k];
+                let w = 0.5 * weights[t] * g.cot[t][k];
                 add(i, i, c64::new(w, 0.0));
                 add(j, j, c64::new(w, 0.0));
                 add(i, j, c64::new(-w, 0.0));
                 add(j, i, c64::new(-w, 0.0));
-            }
-        }
-        for hedge in 0..mesh.connectivity().twin.len() as u32 {
-            if mesh.connectivity().is_boundary(hedge) {
-                let (i, j) = (mesh.tail(hedge), mesh.head(hedge));
-                add(i, j, c64::new(0.0, 0.5));
-                add(j, i, c64::new(0.0, -0.5));
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                add(a, b, c64::new(0.0, 0.5 * weights[t]));
+                add(b, a, c64::new(0.0, -0.5 * weights[t]));
             }
         }
         (dense(&h.build().expect("assembly")), rhs)
@@ -357,8 +416,16 @@ mod tests {
     fn edge_assembly_matches_the_corner_by_corner_assembly() {
         let mesh = bumpy_grid();
         let pins = default_pins(&mesh);
-        let system = ConformalSystem::new(&mesh, pins).expect("assembly");
-        let (matrix, rhs) = reference(&mesh, &system.unknowns.index, system.unknowns.count(), &system.pinned);
+        let unweighted = ConformalSystem::new(&mesh, pins).expect("assembly");
+        assert_same_system(&mesh, &unweighted, &vec![1.0; mesh.triangle_count()]);
+        let areas = &mesh.geometry().area;
+        let weighted =
+            ConformalSystem::with_triangle_weights(&mesh, &pins, &mesh.geometry().cot, Some(areas)).expect("assembly");
+        assert_same_system(&mesh, &weighted, areas);
+    }
+
+    fn assert_same_system(mesh: &TriMesh, system: &ConformalSystem, weights: &[f64]) {
+        let (matrix, rhs) = reference(mesh, &system.unknowns.index, system.unknowns.count(), &system.pinned, weights);
         let ours = dense(&system.matrix);
         for (row, expected) in ours.iter().zip(&matrix) {
             for (a, b) in row.iter().zip(expected) {
