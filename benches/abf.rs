@@ -8,7 +8,8 @@
 //!     UVFLAT_BENCH_ABF_MAX_FACES=20000 cargo bench --bench abf  # also original ABF up to 20k
 //!     UVFLAT_BENCH_MESHES=disk_mountain.obj,disk_bimba_cut.obj cargo bench --bench abf
 //!     UVFLAT_BENCH_PLAIN_GN=1 cargo bench --bench abf  # also the paper's plain Gauss–Newton
-//!     UVFLAT_BENCH_ABF_WEIGHTS=inverse cargo bench --bench abf  # w = 1/β instead of 1/β²
+//!     UVFLAT_BENCH_ABF_WEIGHTS=square cargo bench --bench abf   # the papers' w = 1/β² (or inverse: 1/β)
+//!     UVFLAT_BENCH_ABF_BARRIER=0 cargo bench --bench abf        # no angle barrier (the papers' objective)
 //!     UVFLAT_BENCH_ABF_KRYLOV=40 UVFLAT_BENCH_ABF_MAX_ITERATIONS=30 cargo bench --bench abf
 //!
 //! Times: `TriMesh::new` plus the method (angle optimisation + reconstruction), one run each
@@ -60,9 +61,16 @@ fn main() {
         env_usize("UVFLAT_BENCH_ABF_MAX_ITERATIONS", AbfOptions::default().max_iterations as usize) as u32;
     let weights = match std::env::var("UVFLAT_BENCH_ABF_WEIGHTS").as_deref() {
         Ok("inverse") => AbfWeights::Inverse,
-        _ => AbfWeights::InverseSquare,
+        Ok("square") => AbfWeights::InverseSquare,
+        _ => AbfOptions::default().weights,
     };
-    println!("weights: {weights:?}, Newton–Krylov steps: {krylov}, most iterations: {max_iterations}");
+    let barrier = std::env::var("UVFLAT_BENCH_ABF_BARRIER")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(AbfOptions::default().barrier);
+    println!(
+        "weights: {weights:?}, barrier: {barrier}, Newton–Krylov steps: {krylov}, most iterations: {max_iterations}"
+    );
     println!("threads: {}", rayon::current_num_threads());
     println!();
     println!("| mesh | faces | method | iterations | seconds | final ‖∇L‖ | flipped | invalid angles | angle error mean (°) | natural conformal: seconds | angle error mean (°) |");
@@ -86,7 +94,8 @@ fn main() {
         for (variant, newton_krylov_steps, label) in variants {
             let start = Instant::now();
             let mesh = TriMesh::new(&obj.positions, &obj.triangles).expect("valid mesh");
-            let options = AbfOptions { variant, newton_krylov_steps, weights, max_iterations, ..AbfOptions::default() };
+            let options =
+                AbfOptions { variant, newton_krylov_steps, weights, barrier, max_iterations, ..AbfOptions::default() };
             match abf(&mesh, &options) {
                 Ok(result) => {
                     let seconds = start.elapsed().as_secs_f64();

@@ -1272,7 +1272,8 @@ void uvf_abf_options_default(struct UvfAbfOptions *options);
 /**
  * Angle Based Flattening: ABF (Sheffer & de Sturler 2001) or ABF++ (Sheffer, Lévy,
  * Mogilnitsky, Bogomyakov 2005; course notes §4.5). Finds planar corner angles closest to the
- * 3D ones (energy Σ (α − β)²/β²) under the triangle, planarity and sine-law reconstruction
+ * 3D ones (energy Σ (α − β)²/(β(π − β)) plus the barrier Σ (α/β − ln(α/β) − 1), see the Rust
+ * `methods::abf`) under the triangle, planarity and sine-law reconstruction
  * constraints by Newton (ABF) or Gauss–Newton (ABF++, reduced 2·n_interior system) steps on
  * the Lagrangian, then lays the angles out by least squares (ABF++ §5, the natural conformal
  * system with the cotangents of the angles) with two pinned vertices.
