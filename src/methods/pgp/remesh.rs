@@ -74,7 +74,75 @@ pub fn quad_dominant_remesh(mesh: &TriMesh, result: &PgpResult, density: f64) ->
             out.indices.extend(ids);
         }
     }
+    split_pinched_vertices(&mut out);
     Ok(out)
+}
+
+/// Gives every fan of faces around a vertex its own copy of the vertex. Where the line graph
+/// pinches (two chains of faces touching only at one node: seen next to the singular regions
+/// of the coarse knight with the smoothing at ρ = 0.9), the output would otherwise be
+/// non-manifold at that vertex; the copies share its position. Fans are the classes of corners
+/// at a vertex linked through shared edges: the corner whose next vertex is x and the corner
+/// whose previous vertex is x.
+fn split_pinched_vertices(out: &mut PolygonMesh) {
+    let starts: Vec<usize> = out
+        .face_sizes
+        .iter()
+        .scan(0usize, |start, &size| {
+            let s = *start;
+            *start += size as usize;
+            Some(s)
+        })
+        .collect();
+    // Corners (positions in `indices`) at each vertex, with their previous and next vertices.
+    let mut corners: Vec<Vec<(usize, u32, u32)>> = vec![Vec::new(); out.positions.len()];
+    for (f, &size) in out.face_sizes.iter().enumerate() {
+        let (start, n) = (starts[f], size as usize);
+        for i in 0..n {
+            let v = out.indices[start + i];
+            let prev = out.indices[start + (i + n - 1) % n];
+            let next = out.indices[start + (i + 1) % n];
+            corners[v as usize].push((start + i, prev, next));
+        }
+    }
+    for at_v in corners.iter().filter(|c| c.len() > 1) {
+        let fans = fan_classes(at_v);
+        let mut copy_of: HashMap<usize, u32> = HashMap::new();
+        let first = fans[0];
+        for (k, &(slot, _, _)) in at_v.iter().enumerate() {
+            if fans[k] == first {
+                continue;
+            }
+            let v = out.indices[slot];
+            let id = *copy_of.entry(fans[k]).or_insert_with(|| {
+                out.positions.push(out.positions[v as usize]);
+                (out.positions.len() - 1) as u32
+            });
+            out.indices[slot] = id;
+        }
+    }
+}
+
+/// Class (smallest member) of every corner around one vertex, corners being linked when they
+/// share an edge (see [`split_pinched_vertices`]).
+fn fan_classes(corners: &[(usize, u32, u32)]) -> Vec<usize> {
+    let mut parent: Vec<usize> = (0..corners.len()).collect();
+    fn root(parent: &mut [usize], mut x: usize) -> usize {
+        while parent[x] != x {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        x
+    }
+    for a in 0..corners.len() {
+        for b in 0..corners.len() {
+            if a != b && corners[a].2 == corners[b].1 {
+                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+    }
+    (0..corners.len()).map(|k| root(&mut parent, k)).collect()
 }
 
 /// A side: the graph path from one corner to the next, named by its first arm `(corner,
