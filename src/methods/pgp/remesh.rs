@@ -348,3 +348,40 @@ fn smallest_angle(position: &[[f64; 3]], polygon: &[u32]) -> f64 {
         })
         .fold(f64::INFINITY, f64::min)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two closed tetrahedra, the second sharing vertex 0 with the first when `pinched`.
+    fn two_tetrahedra(pinched: bool) -> PolygonMesh {
+        let tetrahedron = |[a, b, c, d]: [u32; 4]| [[a, c, b], [a, b, d], [a, d, c], [b, c, d]];
+        let second = if pinched { [0, 4, 5, 6] } else { [7, 4, 5, 6] };
+        let faces: Vec<[u32; 3]> = tetrahedron([0, 1, 2, 3]).into_iter().chain(tetrahedron(second)).collect();
+        let count = if pinched { 7 } else { 8 };
+        PolygonMesh {
+            positions: (0..count).map(|i| [i as f64, (i * i) as f64, 0.0]).collect(),
+            face_sizes: vec![3; faces.len()],
+            indices: faces.concat(),
+        }
+    }
+
+    #[test]
+    fn a_vertex_shared_by_two_fans_gets_one_copy_per_fan() {
+        let mut mesh = two_tetrahedra(true);
+        split_pinched_vertices(&mut mesh);
+        assert_eq!(mesh.positions.len(), 8);
+        assert_eq!(mesh.positions[7], mesh.positions[0]);
+        let faces: Vec<&[u32]> = mesh.faces().collect();
+        assert!(faces[..4].iter().all(|f| !f.contains(&7)) && faces[..3].iter().all(|f| f.contains(&0)));
+        assert!(faces[4..].iter().all(|f| !f.contains(&0)) && faces[4..7].iter().all(|f| f.contains(&7)));
+    }
+
+    #[test]
+    fn manifold_output_is_left_unchanged() {
+        let mut mesh = two_tetrahedra(false);
+        let before = mesh.clone();
+        split_pinched_vertices(&mut mesh);
+        assert_eq!(mesh, before);
+    }
+}
