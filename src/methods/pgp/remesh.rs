@@ -74,7 +74,75 @@ pub fn quad_dominant_remesh(mesh: &TriMesh, result: &PgpResult, density: f64) ->
             out.indices.extend(ids);
         }
     }
+    split_pinched_vertices(&mut out);
     Ok(out)
+}
+
+/// Gives every fan of faces around a vertex its own copy of the vertex. Where the line graph
+/// pinches (two chains of faces touching only at one node: seen next to the singular regions
+/// of the coarse knight with the smoothing at ρ = 0.9), the output would otherwise be
+/// non-manifold at that vertex; the copies share its position. Fans are the classes of corners
+/// at a vertex linked through shared edges: the corner whose next vertex is x and the corner
+/// whose previous vertex is x.
+fn split_pinched_vertices(out: &mut PolygonMesh) {
+    let starts: Vec<usize> = out
+        .face_sizes
+        .iter()
+        .scan(0usize, |start, &size| {
+            let s = *start;
+            *start += size as usize;
+            Some(s)
+        })
+        .collect();
+    // Corners (positions in `indices`) at each vertex, with their previous and next vertices.
+    let mut corners: Vec<Vec<(usize, u32, u32)>> = vec![Vec::new(); out.positions.len()];
+    for (f, &size) in out.face_sizes.iter().enumerate() {
+        let (start, n) = (starts[f], size as usize);
+        for i in 0..n {
+            let v = out.indices[start + i];
+            let prev = out.indices[start + (i + n - 1) % n];
+            let next = out.indices[start + (i + 1) % n];
+            corners[v as usize].push((start + i, prev, next));
+        }
+    }
+    for at_v in corners.iter().filter(|c| c.len() > 1) {
+        let fans = fan_classes(at_v);
+        let mut copy_of: HashMap<usize, u32> = HashMap::new();
+        let first = fans[0];
+        for (k, &(slot, _, _)) in at_v.iter().enumerate() {
+            if fans[k] == first {
+                continue;
+            }
+            let v = out.indices[slot];
+            let id = *copy_of.entry(fans[k]).or_insert_with(|| {
+                out.positions.push(out.positions[v as usize]);
+                (out.positions.len() - 1) as u32
+            });
+            out.indices[slot] = id;
+        }
+    }
+}
+
+/// Class (smallest member) of every corner around one vertex, corners being linked when they
+/// share an edge (see [`split_pinched_vertices`]).
+fn fan_classes(corners: &[(usize, u32, u32)]) -> Vec<usize> {
+    let mut parent: Vec<usize> = (0..corners.len()).collect();
+    fn root(parent: &mut [usize], mut x: usize) -> usize {
+        while parent[x] != x {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        x
+    }
+    for a in 0..corners.len() {
+        for b in 0..corners.len() {
+            if a != b && corners[a].2 == corners[b].1 {
+                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+    }
+    (0..corners.len()).map(|k| root(&mut parent, k)).collect()
 }
 
 /// A side: the graph path from one corner to the next, named by its first arm `(corner,
@@ -279,4 +347,41 @@ fn smallest_angle(position: &[[f64; 3]], polygon: &[u32]) -> f64 {
             }
         })
         .fold(f64::INFINITY, f64::min)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two closed tetrahedra, the second sharing vertex 0 with the first when `pinched`.
+    fn two_tetrahedra(pinched: bool) -> PolygonMesh {
+        let tetrahedron = |[a, b, c, d]: [u32; 4]| [[a, c, b], [a, b, d], [a, d, c], [b, c, d]];
+        let second = if pinched { [0, 4, 5, 6] } else { [7, 4, 5, 6] };
+        let faces: Vec<[u32; 3]> = tetrahedron([0, 1, 2, 3]).into_iter().chain(tetrahedron(second)).collect();
+        let count = if pinched { 7 } else { 8 };
+        PolygonMesh {
+            positions: (0..count).map(|i| [i as f64, (i * i) as f64, 0.0]).collect(),
+            face_sizes: vec![3; faces.len()],
+            indices: faces.concat(),
+        }
+    }
+
+    #[test]
+    fn a_vertex_shared_by_two_fans_gets_one_copy_per_fan() {
+        let mut mesh = two_tetrahedra(true);
+        split_pinched_vertices(&mut mesh);
+        assert_eq!(mesh.positions.len(), 8);
+        assert_eq!(mesh.positions[7], mesh.positions[0]);
+        let faces: Vec<&[u32]> = mesh.faces().collect();
+        assert!(faces[..4].iter().all(|f| !f.contains(&7)) && faces[..3].iter().all(|f| f.contains(&0)));
+        assert!(faces[4..].iter().all(|f| !f.contains(&0)) && faces[4..7].iter().all(|f| f.contains(&7)));
+    }
+
+    #[test]
+    fn manifold_output_is_left_unchanged() {
+        let mut mesh = two_tetrahedra(false);
+        let before = mesh.clone();
+        split_pinched_vertices(&mut mesh);
+        assert_eq!(mesh, before);
+    }
 }
