@@ -25,6 +25,21 @@
 #define UVF_ABF_VARIANT_ABF_PLUS_PLUS 1
 
 /**
+ * Objective weights w = 1/(β(π − β)) (default): the angle's and its supplement's inverse.
+ */
+#define UVF_ABF_WEIGHTS_ANGLE_AND_SUPPLEMENT 0
+
+/**
+ * Objective weights w = 1/β², the papers' relative angle error.
+ */
+#define UVF_ABF_WEIGHTS_INVERSE_SQUARE 1
+
+/**
+ * Objective weights w = 1/β.
+ */
+#define UVF_ABF_WEIGHTS_INVERSE 2
+
+/**
  * Charts flattened by the natural conformal map / LSCM (the default; charts that flip are split).
  */
 #define UVF_ATLAS_CHART_NATURAL_CONFORMAL 0
@@ -394,6 +409,18 @@ typedef struct UvfAbfOptions {
    * Passed to `progress` unchanged.
    */
   void *progress_user;
+  /**
+   * Weights w of the objective Σ w (α − β)²: `UVF_ABF_WEIGHTS_ANGLE_AND_SUPPLEMENT`
+   * (default) or `UVF_ABF_WEIGHTS_INVERSE_SQUARE` (the papers') or `UVF_ABF_WEIGHTS_INVERSE`.
+   * Added after version 1 of the struct; callers built against it get the default.
+   */
+  uint32_t weights;
+  /**
+   * μ ≥ 0 of the angle barrier μ Σ (α/β − ln(α/β) − 1) (default 1); 0 with
+   * `UVF_ABF_WEIGHTS_INVERSE_SQUARE` is the papers' objective, which has no minimiser with
+   * every angle in (0, π) on some folded meshes. Added after version 1 of the struct.
+   */
+  double barrier;
 } UvfAbfOptions;
 
 /**
@@ -1262,7 +1289,8 @@ extern "C" {
 #endif // __cplusplus
 
 /**
- * Fills `options` with defaults (ABF++, 20 iterations, tolerance 1e-6, automatic pins).
+ * Fills `options` with defaults (ABF++, 20 iterations, tolerance 1e-6, automatic pins,
+ * weights 1/(β(π − β)), barrier 1).
  *
  * # Safety
  * `options` must be NULL or point to a writable struct.

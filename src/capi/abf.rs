@@ -2,7 +2,7 @@
 
 use super::{guard, mesh_from_raw, progress_closure, read_options, write_uv, UvfProgressFn};
 use crate::error::{Error, UvfStatus};
-use crate::methods::abf::{abf_with_progress, AbfOptions, AbfVariant};
+use crate::methods::abf::{abf_with_progress, AbfOptions, AbfVariant, AbfWeights};
 use crate::methods::conformal::Pin;
 use crate::progress::Progress;
 use std::os::raw::c_void;
@@ -11,6 +11,13 @@ use std::os::raw::c_void;
 pub const UVF_ABF_VARIANT_ABF: u32 = 0;
 /// ABF++ (Sheffer et al. 2005): Gauss–Newton steps on the reduced ~2·n_interior system.
 pub const UVF_ABF_VARIANT_ABF_PLUS_PLUS: u32 = 1;
+
+/// Objective weights w = 1/(β(π − β)) (default): the angle's and its supplement's inverse.
+pub const UVF_ABF_WEIGHTS_ANGLE_AND_SUPPLEMENT: u32 = 0;
+/// Objective weights w = 1/β², the papers' relative angle error.
+pub const UVF_ABF_WEIGHTS_INVERSE_SQUARE: u32 = 1;
+/// Objective weights w = 1/β.
+pub const UVF_ABF_WEIGHTS_INVERSE: u32 = 2;
 
 /// Options of `uvf_abf`. Initialise with `uvf_abf_options_default`.
 #[repr(C)]
@@ -34,6 +41,14 @@ pub struct UvfAbfOptions {
     pub progress: UvfProgressFn,
     /// Passed to `progress` unchanged.
     pub progress_user: *mut c_void,
+    /// Weights w of the objective Σ w (α − β)²: `UVF_ABF_WEIGHTS_ANGLE_AND_SUPPLEMENT`
+    /// (default) or `UVF_ABF_WEIGHTS_INVERSE_SQUARE` (the papers') or `UVF_ABF_WEIGHTS_INVERSE`.
+    /// Added after version 1 of the struct; callers built against it get the default.
+    pub weights: u32,
+    /// μ ≥ 0 of the angle barrier μ Σ (α/β − ln(α/β) − 1) (default 1); 0 with
+    /// `UVF_ABF_WEIGHTS_INVERSE_SQUARE` is the papers' objective, which has no minimiser with
+    /// every angle in (0, π) on some folded meshes. Added after version 1 of the struct.
+    pub barrier: f64,
 }
 
 impl Default for UvfAbfOptions {
@@ -48,6 +63,8 @@ impl Default for UvfAbfOptions {
             pin_uv: [0.0, 0.0, 1.0, 0.0],
             progress: None,
             progress_user: std::ptr::null_mut(),
+            weights: UVF_ABF_WEIGHTS_ANGLE_AND_SUPPLEMENT,
+            barrier: AbfOptions::default().barrier,
         }
     }
 }
@@ -66,7 +83,8 @@ pub struct UvfAbfReport {
     pub invalid_angles: u64,
 }
 
-/// Fills `options` with defaults (ABF++, 20 iterations, tolerance 1e-6, automatic pins).
+/// Fills `options` with defaults (ABF++, 20 iterations, tolerance 1e-6, automatic pins,
+/// weights 1/(β(π − β)), barrier 1).
 ///
 /// # Safety
 /// `options` must be NULL or point to a writable struct.
@@ -77,7 +95,8 @@ pub unsafe extern "C" fn uvf_abf_options_default(options: *mut UvfAbfOptions) {
     }
 }
 
-const ABF_OPTIONS_V1: usize = std::mem::size_of::<UvfAbfOptions>();
+/// Size of the first version of `UvfAbfOptions` (without `weights` and `barrier`).
+const ABF_OPTIONS_V1: usize = std::mem::offset_of!(UvfAbfOptions, weights);
 
 /// Angle Based Flattening: ABF (Sheffer & de Sturler 2001) or ABF++ (Sheffer, Lévy,
 /// Mogilnitsky, Bogomyakov 2005; course notes §4.5). Finds planar corner angles closest to the
@@ -122,12 +141,20 @@ pub unsafe extern "C" fn uvf_abf(
             }
             n => return Err(Error::InvalidArgument(format!("pin_count must be 0 or 2, not {n}"))),
         };
+        let weights = match o.weights {
+            UVF_ABF_WEIGHTS_ANGLE_AND_SUPPLEMENT => AbfWeights::AngleAndSupplement,
+            UVF_ABF_WEIGHTS_INVERSE_SQUARE => AbfWeights::InverseSquare,
+            UVF_ABF_WEIGHTS_INVERSE => AbfWeights::Inverse,
+            w => return Err(Error::InvalidArgument(format!("unknown ABF weights {w}; use one of UVF_ABF_WEIGHTS_*"))),
+        };
         let options = AbfOptions {
             variant,
             max_iterations: o.max_iterations,
             tolerance: o.tolerance,
             pins,
-            ..AbfOptions::default()
+            weights,
+            barrier: o.barrier,
+            newton_krylov_steps: AbfOptions::default().newton_krylov_steps,
         };
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         let mut callback = progress_closure(o.progress, o.progress_user);

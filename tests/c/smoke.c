@@ -4,6 +4,7 @@
 #include "uvflat.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
@@ -282,6 +283,22 @@ static void check_abf(const double *positions, size_t nv, const uint32_t *triang
     check(status == UVF_OK, "original ABF succeeds");
     options.variant = 9;
     check(uvf_abf(positions, nv, triangles, nt, &options, uv, NULL) == UVF_INVALID_ARGUMENT, "unknown ABF variant");
+    uvf_abf_options_default(&options);
+    check(options.weights == UVF_ABF_WEIGHTS_ANGLE_AND_SUPPLEMENT && options.barrier == 1.0, "ABF objective defaults");
+    options.weights = UVF_ABF_WEIGHTS_INVERSE_SQUARE;
+    options.barrier = 0.0;
+    status = uvf_abf(positions, nv, triangles, nt, &options, uv, &report);
+    check(status == UVF_OK && report.converged == 1, "ABF++ with the papers' objective converges on the bent grid");
+    options.weights = 7;
+    check(uvf_abf(positions, nv, triangles, nt, &options, uv, NULL) == UVF_INVALID_ARGUMENT, "unknown ABF weights");
+    options.weights = UVF_ABF_WEIGHTS_INVERSE;
+    options.barrier = -1.0;
+    check(uvf_abf(positions, nv, triangles, nt, &options, uv, NULL) == UVF_INVALID_ARGUMENT, "negative ABF barrier");
+    /* A caller built against the first version of the struct (without weights and barrier). */
+    uvf_abf_options_default(&options);
+    options.struct_size = offsetof(UvfAbfOptions, weights);
+    options.weights = 7;
+    check(uvf_abf(positions, nv, triangles, nt, &options, uv, NULL) == UVF_OK, "version-1 ABF options get the defaults");
     uvf_abf_options_default(&options);
     options.progress = cancel_first;
     options.progress_user = &calls;

@@ -858,6 +858,19 @@ def test_abf_plus_plus_converges_without_flips_and_cancels():
         uvflat.abf(p, t, progress=lambda fraction: False)
 
 
+def test_abf_objective_options_reach_the_library():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    default_uv, _ = uvflat.abf(p, t)
+    papers_uv, report = uvflat.abf(p, t, weights="inverse_square", barrier=0.0)
+    assert report.converged and uvflat.metrics(p, t, papers_uv).flipped == 0
+    # Another objective gives other angles.
+    assert np.abs(papers_uv - default_uv).max() > 1e-6
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.abf(p, t, weights="squared")
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.abf(p, t, barrier=-1.0)
+
+
 def test_abf_with_given_pins_places_them_and_keeps_the_angles():
     p, t = load_mesh("disk_nefertiti_small.obj")
     loops = uvflat.boundary_loops(p, t)

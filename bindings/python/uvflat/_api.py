@@ -855,12 +855,18 @@ def abf(
     max_iterations: Optional[int] = None,
     tolerance: Optional[float] = None,
     pins: Optional[Pins] = None,
+    weights: str = "angle_and_supplement",
+    barrier: Optional[float] = None,
     progress: Optional[ProgressCallback] = None,
 ) -> Tuple[np.ndarray, AbfReport]:
     """Angle based flattening (``uvf_abf``): ``"abf++"`` (Sheffer et al. 2005, default) or
     ``"abf"`` (Sheffer & de Sturler 2001), then the LSCM-style reconstruction of UVs.
 
     Args:
+        weights: the objective's weights w in Σ w (α − β)²: ``"angle_and_supplement"``
+            (1/(β(π − β)), default), ``"inverse_square"`` (1/β², the papers') or ``"inverse"``.
+        barrier: μ ≥ 0 of the angle barrier μ Σ (α/β − ln(α/β) − 1) (default 1); ``0`` with
+            ``weights="inverse_square"`` is the papers' objective.
         pins: ``None`` (default) or ``((v0, (u0, v0_)), (v1, (u1, v1_)))``: the two vertices
             the reconstruction pins and their UVs, as for :func:`natural_conformal_map` (by
             default the two boundary vertices farthest apart).
@@ -878,6 +884,17 @@ def abf(
         options.max_iterations = int(max_iterations)
     if tolerance is not None:
         options.tolerance = float(tolerance)
+    options.weights = _code(
+        weights,
+        {
+            "angle_and_supplement": L.UVF_ABF_WEIGHTS_ANGLE_AND_SUPPLEMENT,
+            "inverse_square": L.UVF_ABF_WEIGHTS_INVERSE_SQUARE,
+            "inverse": L.UVF_ABF_WEIGHTS_INVERSE,
+        },
+        "weights",
+    )
+    if barrier is not None:
+        options.barrier = float(barrier)
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     uv = np.empty((len(p), 2), dtype=np.float64)

@@ -68,6 +68,9 @@ UVF_DISTRIBUTION_CENTRIPETAL = 2
 
 UVF_ABF_VARIANT_ABF = 0
 UVF_ABF_VARIANT_ABF_PLUS_PLUS = 1
+UVF_ABF_WEIGHTS_ANGLE_AND_SUPPLEMENT = 0
+UVF_ABF_WEIGHTS_INVERSE_SQUARE = 1
+UVF_ABF_WEIGHTS_INVERSE = 2
 
 UVF_NONLINEAR_SLIM = 0
 UVF_NONLINEAR_ARAP = 1
@@ -187,6 +190,8 @@ class UvfAbfOptions(Structure):
         ("pin_uv", c_double * 4),
         ("progress", UvfProgressFn),
         ("progress_user", c_void_p),
+        ("weights", c_uint32),
+        ("barrier", c_double),
     ]
 
 
