@@ -29,6 +29,12 @@ fn count(ix: &[f64]) -> (usize, usize) {
     (pos, neg)
 }
 
+/// Minimum, quartiles and maximum of `values`, printed with `digits` decimals.
+fn quartiles(mut values: Vec<f64>, digits: usize) -> String {
+    values.sort_by(f64::total_cmp);
+    (0..5).map(|f| format!("{:.digits$}", values[(f * (values.len() - 1)) / 4])).collect::<Vec<_>>().join(" ")
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let file = args.iter().skip(1).find(|a| !a.starts_with("--")).expect("usage: pgp_diagnostics MESH.obj");
@@ -195,40 +201,12 @@ fn main() {
             }
             (le / n / l, dev)
         };
-        let mut sp: Vec<(f64, f64)> = pts.iter().map(|p| stat(p.0)).collect();
-        let mut all: Vec<(f64, f64)> = (0..mesh.vertex_count() as u32).map(stat).collect();
-        sp.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap());
-        all.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap());
-        let q = |v: &Vec<(f64, f64)>, f: usize| v[(f * (v.len() - 1)) / 4].0;
-        println!(
-            "  local edge/l quartiles: singular {:.2} {:.2} {:.2} {:.2} {:.2}  all {:.2} {:.2} {:.2} {:.2} {:.2}",
-            q(&sp, 0),
-            q(&sp, 1),
-            q(&sp, 2),
-            q(&sp, 3),
-            q(&sp, 4),
-            q(&all, 0),
-            q(&all, 1),
-            q(&all, 2),
-            q(&all, 3),
-            q(&all, 4)
-        );
-        sp.sort_by(|a, b| a.1.partial_cmp(&b.1).unwrap());
-        all.sort_by(|a, b| a.1.partial_cmp(&b.1).unwrap());
-        let q = |v: &Vec<(f64, f64)>, f: usize| v[(f * (v.len() - 1)) / 4].1;
-        println!(
-            "  normal dev deg quartiles: singular {:.1} {:.1} {:.1} {:.1} {:.1}  all {:.1} {:.1} {:.1} {:.1} {:.1}",
-            q(&sp, 0),
-            q(&sp, 1),
-            q(&sp, 2),
-            q(&sp, 3),
-            q(&sp, 4),
-            q(&all, 0),
-            q(&all, 1),
-            q(&all, 2),
-            q(&all, 3),
-            q(&all, 4)
-        );
+        let sp: Vec<(f64, f64)> = pts.iter().map(|p| stat(p.0)).collect();
+        let all: Vec<(f64, f64)> = (0..mesh.vertex_count() as u32).map(stat).collect();
+        let edge = |v: &[(f64, f64)]| quartiles(v.iter().map(|x| x.0).collect(), 2);
+        println!("  local edge/l quartiles: singular {}  all {}", edge(&sp), edge(&all));
+        let normal = |v: &[(f64, f64)]| quartiles(v.iter().map(|x| x.1).collect(), 1);
+        println!("  normal dev deg quartiles: singular {}  all {}", normal(&sp), normal(&all));
     }
     if std::env::var("OUT").is_ok() {
         // The 10 worst regular triangles: σ1, σ2, uv area / expected, whether a vertex is shared with a singular triangle.
