@@ -145,18 +145,21 @@ fn main() {
     for &t in &s.triangles {
         sing[t as usize] = true;
     }
-    let mut per: Vec<(f64, f64, f64)> = Vec::new(); // (A σ² term, area, uv area)
-    for t in 0..mesh.triangle_count() {
-        if sing[t] || mesh.triangles()[t].iter().any(|&v| touched[v as usize]) {
-            continue;
-        }
-        let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
-        let qq = r.param.coords[t].map(|c| [c[0] / r.omega, c[1] / r.omega]);
-        if let Some((s1, s2)) = uvflat::metrics::per_triangle_singular_values(p, qq) {
-            let a = mesh.geometry().area[t];
-            per.push((a * 0.5 * (s1 * s1 + s2 * s2), a, a / (s1 * s2)));
-        }
-    }
+    // (triangle, σ1, σ2) of (θ, φ)/ω → surface on the triangles quality() measures.
+    let measured: Vec<(usize, f64, f64)> = (0..mesh.triangle_count())
+        .filter(|&t| !sing[t] && !mesh.triangles()[t].iter().any(|&v| touched[v as usize]))
+        .filter_map(|t| {
+            let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
+            let qq = r.param.coords[t].map(|c| [c[0] / r.omega, c[1] / r.omega]);
+            uvflat::metrics::per_triangle_singular_values(p, qq).map(|(s1, s2)| (t, s1, s2))
+        })
+        .collect();
+    let stretch_term = |&(t, s1, s2): &(usize, f64, f64)| mesh.geometry().area[t] * 0.5 * (s1 * s1 + s2 * s2);
+    // (A σ² term, area, uv area)
+    let per: Vec<(f64, f64, f64)> = measured
+        .iter()
+        .map(|m| (stretch_term(m), mesh.geometry().area[m.0], mesh.geometry().area[m.0] / (m.1 * m.2)))
+        .collect();
     let mut nu: Vec<f64> = r.unknowns.iter().map(|x| (x[0] * x[0] + x[1] * x[1]).sqrt()).collect();
     nu.sort_by(|a, b| a.partial_cmp(b).unwrap());
     println!(
@@ -216,17 +219,8 @@ fn main() {
                 near_t[v as usize] = true;
             }
         }
-        let mut worst: Vec<(f64, usize, f64, f64)> = Vec::new();
-        for t in 0..mesh.triangle_count() {
-            if sing[t] || mesh.triangles()[t].iter().any(|&v| touched[v as usize]) {
-                continue;
-            }
-            let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
-            let qq = r.param.coords[t].map(|c| [c[0] / r.omega, c[1] / r.omega]);
-            if let Some((s1, s2)) = uvflat::metrics::per_triangle_singular_values(p, qq) {
-                worst.push((mesh.geometry().area[t] * 0.5 * (s1 * s1 + s2 * s2), t, s1, s2));
-            }
-        }
+        let mut worst: Vec<(f64, usize, f64, f64)> =
+            measured.iter().map(|m| (stretch_term(m), m.0, m.1, m.2)).collect();
         worst.sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap());
         let mut nadj = 0;
         for w in worst.iter().take(worst.len() / 1000 + 1) {
