@@ -154,7 +154,7 @@ pub unsafe extern "C" fn uvf_abf(
             pins,
             weights,
             barrier: o.barrier,
-            newton_krylov_steps: AbfOptions::default().newton_krylov_steps,
+            ..AbfOptions::default()
         };
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         let mut callback = progress_closure(o.progress, o.progress_user);

@@ -53,12 +53,9 @@ pub fn natural_conformal_map_with_progress(
 ) -> Result<Vec<[f64; 2]>> {
     let pins = resolve_pins(mesh, pins)?;
     progress.report(0.05)?;
-    let mut system = ConformalSystem::new(mesh, pins)?;
+    let system = ConformalSystem::new(mesh, pins)?;
     progress.report(0.3)?;
-    let coords = system.unknowns.positions(mesh);
-    HermitianSolver::new(&system.matrix, &coords)?.solve_in_place(&mut system.rhs)?;
-    progress.report(0.95)?;
-    let uv = system.uv(mesh)?;
+    let uv = system.solve(mesh)?;
     progress.report(1.0)?;
     Ok(uv)
 }
@@ -68,11 +65,7 @@ pub fn natural_conformal_map_with_progress(
 /// (NaN for unreferenced vertices).
 pub fn area_weighted_conformal_map(mesh: &TriMesh, pins: Option<[Pin; 2]>) -> Result<Vec<[f64; 2]>> {
     let pins = resolve_pins(mesh, pins)?;
-    let mut system =
-        ConformalSystem::with_triangle_weights(mesh, &pins, &mesh.geometry().cot, Some(&mesh.geometry().area))?;
-    let coords = system.unknowns.positions(mesh);
-    HermitianSolver::new(&system.matrix, &coords)?.solve_in_place(&mut system.rhs)?;
-    system.uv(mesh)
+    ConformalSystem::with_triangle_weights(mesh, &pins, &mesh.geometry().cot, Some(&mesh.geometry().area))?.solve(mesh)
 }
 
 /// The natural conformal map's linear system `H_ff z_f = −H_fp z_p` over the free vertices.
@@ -121,6 +114,13 @@ impl ConformalSystem {
         let terms = EdgeWeights { cot, triangle: weights };
         let (matrix, rhs) = assemble_conformal_system(mesh, &terms, &unknowns.index, unknowns.count(), &pinned)?;
         Ok(ConformalSystem { unknowns, pinned, matrix, rhs })
+    }
+
+    /// Factors `H_ff` and solves the system; one UV per vertex (see [`ConformalSystem::uv`]).
+    pub fn solve(mut self, mesh: &TriMesh) -> Result<Vec<[f64; 2]>> {
+        let coords = self.unknowns.positions(mesh);
+        HermitianSolver::new(&self.matrix, &coords)?.solve_in_place(&mut self.rhs)?;
+        self.uv(mesh)
     }
 
     /// One UV per vertex from the solved `rhs` (pins where pinned, NaN for unreferenced
