@@ -29,6 +29,7 @@
 use super::ChartMethod;
 use crate::error::{Error, Result};
 use crate::mesh::cut::{cut_to_disk, EdgeCost};
+use crate::mesh::topology::find;
 use crate::mesh::{next, TriMesh, NONE};
 use crate::methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions};
 use crate::methods::conformal::natural_conformal_map;
@@ -311,15 +312,6 @@ fn scale_to_area(disk: &TriMesh, uv: &mut [[f64; 2]]) -> (f64, f64) {
     // σ of the uv → surface map scale by 1/k when the uv layout is scaled by k.
     let stretch = (weighted / area_3d / (k * k)).sqrt();
     (stretch, area_3d)
-}
-
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let g = parent[parent[x as usize] as usize];
-        parent[x as usize] = g;
-        x = g;
-    }
-    x
 }
 
 fn union(parent: &mut [u32], x: u32, y: u32) {

@@ -33,6 +33,7 @@
 //!
 //! Cost: O(E log E) (Dijkstra and the Kruskal sort), O(F) memory.
 
+use super::topology::find;
 use super::{next, TriMesh, NONE};
 use crate::error::{Error, Result};
 use crate::geometry::{cross, distance, dot, norm, sub};
@@ -275,16 +276,6 @@ fn shortest_path_tree(mesh: &TriMesh, edges: &Edges, costs: &[f64], sources: &[u
         }
     }
     (dist, parent)
-}
-
-/// Union–find root with path halving.
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let g = parent[parent[x as usize] as usize];
-        parent[x as usize] = g;
-        x = g;
-    }
-    x
 }
 
 /// Tree–cotree cut graph, pruned: `true` for every edge of the cut graph (boundary edges

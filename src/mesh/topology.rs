@@ -55,7 +55,7 @@ pub fn triangle_components(triangle_count: usize, conn: &Connectivity) -> (Vec<u
 }
 
 /// Root of `x` in a union–find forest, halving the path on the way.
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
+pub(crate) fn find(parent: &mut [u32], mut x: u32) -> u32 {
     while parent[x as usize] != x {
         let grandparent = parent[parent[x as usize] as usize];
         parent[x as usize] = grandparent;

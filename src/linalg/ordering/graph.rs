@@ -3,6 +3,8 @@
 //! original edges between two (coarse) vertices. Also induced subgraphs and connected
 //! components, which the dissection needs after every split.
 
+use crate::mesh::topology::find;
+
 /// Marks "no vertex".
 pub const NONE: u32 = u32::MAX;
 
@@ -97,17 +99,6 @@ impl Graph {
         }
         (comp, count as usize)
     }
-}
-
-/// Root of `x` in a union–find forest whose roots are the lowest vertex of their set, halving
-/// the path on the way.
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let grandparent = parent[parent[x as usize] as usize];
-        parent[x as usize] = grandparent;
-        x = grandparent;
-    }
-    x
 }
 
 /// Small deterministic pseudo-random generator (SplitMix64), so orderings are reproducible.

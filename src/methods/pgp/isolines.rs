@@ -74,6 +74,54 @@ pub struct IsoGraph {
     pub triangle: Vec<u32>,
     /// Arms of every node, counter-clockwise (grid nodes: +θ, +φ, −θ, −φ).
     pub arms: Vec<Vec<Arm>>,
+    /// Where every node lies in the triangulation.
+    pub location: Vec<NodeLocation>,
+    /// Every chord as built, before the dangling segments were removed.
+    pub chords: Vec<ChordPath>,
+}
+
+/// Where a node lies: on a mesh edge or inside a triangle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum NodeLocation {
+    /// On half-edge `half_edge` (`3t + k`, from corner k to k + 1), at parameter `t` from its
+    /// tail.
+    Edge {
+        /// The half-edge.
+        half_edge: u32,
+        /// Parameter along it, in [0, 1].
+        t: f64,
+    },
+    /// Inside triangle `triangle`, at barycentric coordinates `bary`.
+    Inside {
+        /// The triangle.
+        triangle: u32,
+        /// Barycentric coordinates (corner order of the triangle).
+        bary: [f64; 3],
+    },
+}
+
+/// One line crossing one triangle: its nodes in order, each with the slot of the arm towards
+/// the next node (`out`) and from the previous one (`inward`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChordPath {
+    /// The triangle.
+    pub triangle: u32,
+    /// 0: a θ-line, 1: a φ-line (in the triangle's own chart).
+    pub family: u8,
+    /// `(node, slot towards the previous node, slot towards the next node)`; the first node's
+    /// inward slot and the last node's out slot are unused.
+    pub nodes: Vec<(u32, u8, u8)>,
+}
+
+impl IsoGraph {
+    /// Whether the segment between the `i`-th and `i + 1`-th node of `chord` is still in the
+    /// graph (not removed as dangling).
+    pub fn segment_present(&self, chord: &ChordPath, i: usize) -> bool {
+        let (u, _, out) = chord.nodes[i];
+        let (w, inward, _) = chord.nodes[i + 1];
+        let arm = self.arms[u as usize][out as usize];
+        arm.to == w && arm.back == inward
+    }
 }
 
 /// A node's slot count by kind: grid 4, crossing 2 (one per side), boundary 3 (along the
@@ -136,8 +184,14 @@ pub fn iso_graph(mesh: &TriMesh, result: &PgpResult, density: f64) -> Result<Iso
         }
     }
     builder.boundary_chains(mesh);
-    let mut graph =
-        IsoGraph { position: builder.position, kind: builder.kind, triangle: builder.triangle, arms: builder.arms };
+    let mut graph = IsoGraph {
+        position: builder.position,
+        kind: builder.kind,
+        triangle: builder.triangle,
+        arms: builder.arms,
+        location: builder.location,
+        chords: builder.chords,
+    };
     graph.nibble();
     graph.keep_largest_components(mesh);
     Ok(graph)
@@ -228,6 +282,9 @@ impl GridValues {
 /// relative: different so that two lines through one vertex cross next to it, not on it.
 const PERTURBATION: [f64; 2] = [1.0, 2.0];
 
+/// Scale of the geometric offset of a crossing at a corner (see [`chord`]).
+const NUDGE: f64 = 1e-7;
+
 /// `(component, sign)` of θ and φ after `r` quarter turns P(θ, φ) = (φ, −θ) (the rotation of
 /// the unknowns, [`super::periodic::unknown_rotation`]).
 fn signed_permutation(r: u8) -> [(usize, f64); 2] {
@@ -268,10 +325,15 @@ fn chord(mesh: &TriMesh, grid: &GridValues, t: usize, f: usize, n: i64, g: &[f64
         let slope = (g[b] - g[a]).abs().max(f64::MIN_POSITIVE);
         // A corner exactly on the line crosses at its perturbed position, an infinitesimal
         // PERTURBATION[comp] / |slope| away from it (which orders lines meeting there).
+        // The node is placed at that perturbed position, NUDGE × tie along the edge, so it
+        // does not coincide with the corner (cut triangulations and remeshes stay free of
+        // zero-length edges).
         let (along, tie) = if let Some(comp) = grid.on_line(mesh, t, a, f, n) {
-            (0.0, PERTURBATION[comp] / slope)
+            let tie = PERTURBATION[comp] / slope;
+            ((NUDGE * tie).min(0.25), tie)
         } else if let Some(comp) = grid.on_line(mesh, t, b, f, n) {
-            (1.0, -PERTURBATION[comp] / slope)
+            let tie = -PERTURBATION[comp] / slope;
+            ((1.0 + NUDGE * tie).max(0.75), tie)
         } else if g[b] != g[a] {
             (((n as f64 - g[a]) / (g[b] - g[a])).clamp(0.0, 1.0), 0.0)
         } else {
@@ -292,6 +354,8 @@ struct Builder {
     kind: Vec<NodeKind>,
     triangle: Vec<u32>,
     arms: Vec<Vec<Arm>>,
+    location: Vec<NodeLocation>,
+    chords: Vec<ChordPath>,
     /// Boundary crossing nodes per boundary half-edge, in the half-edge's direction.
     boundary: std::collections::HashMap<u32, Vec<u32>>,
 }
@@ -300,7 +364,8 @@ struct Builder {
 type ResolvedEnd = (u32, u8, u64);
 
 impl Builder {
-    fn add_node(&mut self, position: [f64; 3], kind: NodeKind, triangle: usize) -> u32 {
+    fn add_node(&mut self, position: [f64; 3], kind: NodeKind, triangle: usize, location: NodeLocation) -> u32 {
+        self.location.push(location);
         self.position.push(position);
         self.kind.push(kind);
         self.triangle.push(triangle as u32);
@@ -382,7 +447,8 @@ impl Builder {
             if let (Some(g), Some(x)) = (g, other) {
                 s = 0.5 * (s + 1.0 - end_of(g / 3, x).t);
             }
-            let node = self.add_node(lerp(pa, pb, s), kind, t);
+            let at = NodeLocation::Edge { half_edge: h as u32, t: s };
+            let node = self.add_node(lerp(pa, pb, s), kind, t, at);
             let slot = if kind == NodeKind::Boundary { 1 } else { 0 };
             ends[t][ci][ei] = (node, slot, boundary_position(h % 3, rank as u64));
             if let (Some(g), Some((cj, ej))) = (g, other) {
@@ -398,7 +464,8 @@ impl Builder {
             leftover.sort_unstable();
             for (_, (cj, ej)) in leftover {
                 let end = chords[g / 3][cj].ends[ej];
-                let node = self.add_node(lerp(pb, pa, end.t), NodeKind::Crossing, g / 3);
+                let at = NodeLocation::Edge { half_edge: g as u32, t: end.t };
+                let node = self.add_node(lerp(pb, pa, end.t), NodeKind::Crossing, g / 3, at);
                 ends[g / 3][cj][ej] = (node, 0, boundary_position(g % 3, 0));
             }
         }
@@ -424,7 +491,8 @@ impl Builder {
                 }
                 let bary = grid_point(&g, chords[i].value as f64, chords[j].value as f64);
                 let p = std::array::from_fn(|k| bary[0] * tri[0][k] + bary[1] * tri[1][k] + bary[2] * tri[2][k]);
-                let node = self.add_node(p, NodeKind::Grid, t);
+                let at = NodeLocation::Inside { triangle: t as u32, bary };
+                let node = self.add_node(p, NodeKind::Grid, t, at);
                 on_chord[i].push((chords[j].value, node, j));
                 on_chord[j].push((chords[i].value, node, i));
             }
@@ -434,24 +502,35 @@ impl Builder {
                 Some(&(_, _, j)) => !end_above(ends[i][0], &chords[j], ends[j]),
                 None => true,
             };
-            self.link_chord(chords[i].family, ends[i], rising, nodes);
+            self.link_chord(t, chords[i].family, ends[i], rising, nodes);
         }
     }
 
     /// Links a chord's ends and grid nodes in order of the other family's value; `rising`:
     /// that value increases from end 0 to end 1 (decided exactly, [`end_above`]).
-    fn link_chord(&mut self, family: u8, ends: [ResolvedEnd; 2], rising: bool, nodes: &mut [(i64, u32, usize)]) {
+    fn link_chord(
+        &mut self,
+        t: usize,
+        family: u8,
+        ends: [ResolvedEnd; 2],
+        rising: bool,
+        nodes: &mut [(i64, u32, usize)],
+    ) {
         let (low, high) = if rising { (ends[0], ends[1]) } else { (ends[1], ends[0]) };
         nodes.sort_unstable_by_key(|&(v, _, _)| v);
         // θ-chord (family 0): moving up in φ leaves a node by arm 1 (+φ), enters by arm 3 (−φ);
         // φ-chord: by arm 0 (+θ), enters by arm 2 (−θ).
         let (out_slot, in_slot) = if family == 0 { (1u8, 3u8) } else { (0u8, 2u8) };
+        let mut path = vec![(low.0, 0, low.1)];
         let mut prev = (low.0, low.1);
         for &(_, node, _) in nodes.iter() {
             self.link(prev, (node, in_slot));
+            path.push((node, in_slot, out_slot));
             prev = (node, out_slot);
         }
         self.link(prev, (high.0, high.1));
+        path.push((high.0, high.1, 0));
+        self.chords.push(ChordPath { triangle: t as u32, family, nodes: path });
     }
 
     /// Joins consecutive boundary crossings along every boundary loop (the interior on the

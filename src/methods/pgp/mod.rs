@@ -22,6 +22,7 @@
 //! Pipeline of [`pgp`]: field (curvature directions or the caller's) → optional smoothing →
 //! optional curl correction → periodic solve → per-corner (θ, φ) → singularities.
 
+pub mod charts;
 pub mod curl;
 pub mod curvature;
 pub mod extraction;
@@ -30,10 +31,12 @@ pub mod isolines;
 pub mod layout;
 pub mod periodic;
 pub mod quality;
+pub mod refine;
 pub mod remesh;
 pub mod singularities;
 pub mod smoothing;
 pub mod solver;
+pub mod split;
 
 use crate::error::{Error, Result};
 use crate::progress::Progress;
