@@ -222,6 +222,32 @@
 #define UVF_SMOOTH_HALF_PI 4
 
 /**
+ * Chart kind: a chart without singularity, its triangles' (θ, φ) assembled (§3.4).
+ */
+#define UVF_PGP_CHART_ASSEMBLED 0
+
+/**
+ * Chart kind: four corners, equal opposite sides, re-parameterized by mean-value coordinates.
+ */
+#define UVF_PGP_CHART_MEAN_VALUE 1
+
+/**
+ * Chart kind: one of the quads an N-sided chart was split into, mean-value re-parameterized.
+ */
+#define UVF_PGP_CHART_SPLIT_QUAD 2
+
+/**
+ * Chart kind: part of a chart that is not a disk with three or more corners, flattened by the
+ * atlas segmentation (no quad structure, not continuous with its neighbours, not folded).
+ */
+#define UVF_PGP_CHART_ATLAS 3
+
+/**
+ * Chart kind: per-triangle (θ, φ) kept (the atlas failed on it).
+ */
+#define UVF_PGP_CHART_UNRESOLVED 4
+
+/**
  * Largest fraction of the total weight one side may take.
  */
 #define MAX_SIDE_FRACTION 0.55
@@ -355,6 +381,14 @@ typedef struct UvfCut UvfCut;
  * `uvf_pgp_free`.
  */
 typedef struct UvfPgp UvfPgp;
+
+/**
+ * The per-chart parameterization of a PGP result (Ray et al. 2006, §3.3–3.4): the surface
+ * cut along the chart boundaries, every chart with its own (u, v). Created by
+ * `uvf_pgp_charts`, read with `uvf_pgp_charts_info`, `uvf_pgp_charts_copy` and
+ * `uvf_pgp_charts_copy_charts`, released with `uvf_pgp_charts_free`.
+ */
+typedef struct UvfPgpCharts UvfPgpCharts;
 
 /**
  * A quad-dominant remesh of a PGP result (Ray et al. 2006, §5): created by
@@ -1284,6 +1318,28 @@ typedef struct UvfChartLayoutInfo {
   size_t four_corner_chart_count;
 } UvfChartLayoutInfo;
 
+/**
+ * Counts of a per-chart parameterization.
+ */
+typedef struct UvfPgpChartsInfo {
+  /**
+   * Vertices of the cut triangulation (the input's first, in the same order).
+   */
+  size_t vertex_count;
+  /**
+   * Triangles of the cut triangulation.
+   */
+  size_t triangle_count;
+  /**
+   * Charts.
+   */
+  size_t chart_count;
+  /**
+   * Charts of each kind, indexed by `UVF_PGP_CHART_*`.
+   */
+  size_t kind_counts[5];
+} UvfPgpChartsInfo;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -2189,7 +2245,7 @@ void uvf_quad_mesh_free(struct UvfQuadMesh *mesh);
 /**
  * Chart layout (§3.3, Algorithm 2): the chart boundaries along the iso-2kπ lines of θ and φ
  * as polylines on the surface between chart corners, and the number of corners of every
- * chart. (The per-chart re-parameterization of §3.4 is not implemented.) Returns `UVF_OK` (a
+ * chart (the per-chart parameterization of §3.4: `uvf_pgp_charts`). Returns `UVF_OK` (a
  * handle in `*layout_out`, free it with `uvf_chart_layout_free`) or `UVF_INVALID_ARGUMENT`
  * (NULL handle or output; `*layout_out` untouched).
  *
@@ -2230,6 +2286,82 @@ enum UvfStatus uvf_chart_layout_copy(const struct UvfChartLayout *layout,
  * `layout` must come from `uvf_pgp_chart_layout` and not have been freed.
  */
 void uvf_chart_layout_free(struct UvfChartLayout *layout);
+
+/**
+ * Per-chart parameterization (§3.3–3.4): cuts the surface along the iso-lines at `density`
+ * lines per period (1: the paper's iso-2kπ chart boundaries; a whole number) and
+ * parameterizes every chart in cells (a regular chart is the unit square): charts without
+ * singularity are assembled from the per-triangle (θ, φ), four-sided charts with
+ * singularities are re-parameterized by mean-value coordinates, N-sided ones split into N
+ * quads; the (u, v) of two charts agree along their common side. Returns `UVF_OK` (a handle
+ * in `*charts_out`, free it with `uvf_pgp_charts_free`) or `UVF_INVALID_ARGUMENT` (NULL handle
+ * or output, bad density; `*charts_out` untouched).
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `charts_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_pgp_charts(const struct UvfPgp *pgp,
+                              double density,
+                              struct UvfPgpCharts **charts_out);
+
+/**
+ * Counts of a per-chart parameterization. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
+ *
+ * # Safety
+ * `charts` must be a live handle or NULL; `info_out` writable.
+ */
+enum UvfStatus uvf_pgp_charts_info(const struct UvfPgpCharts *charts,
+                                   struct UvfPgpChartsInfo *info_out);
+
+/**
+ * Copies the cut triangulation and its parameterization: `3 × vertex_count` coordinates,
+ * `3 × triangle_count` vertex indices (counter-clockwise like the input), `6 × triangle_count`
+ * (u, v) values (per corner, in cells), the chart of every triangle and the input triangle it
+ * lies in (`triangle_count` each). Any output may be NULL (with capacity 0) to skip it.
+ * Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL handle, a capacity too small; outputs
+ * untouched).
+ *
+ * # Safety
+ * `charts` must be a live handle or NULL; each non-NULL output must hold its capacity.
+ */
+enum UvfStatus uvf_pgp_charts_copy(const struct UvfPgpCharts *charts,
+                                   double *positions_out,
+                                   size_t positions_capacity,
+                                   uint32_t *triangles_out,
+                                   size_t triangles_capacity,
+                                   double *uv_out,
+                                   size_t uv_capacity,
+                                   uint32_t *chart_out,
+                                   size_t chart_capacity,
+                                   uint32_t *origin_out,
+                                   size_t origin_capacity);
+
+/**
+ * Copies, per chart (`chart_count` entries each): its kind (`UVF_PGP_CHART_*`), its number of
+ * corners (0 when it is not a disk), the layout chart it comes from (the same for the quads
+ * of one split chart) and its (u, v) extent in cells (2 doubles). Outputs may be NULL (with
+ * capacity 0). Statuses as `uvf_pgp_charts_copy`.
+ *
+ * # Safety
+ * `charts` must be a live handle or NULL; each non-NULL output must hold its capacity.
+ */
+enum UvfStatus uvf_pgp_charts_copy_charts(const struct UvfPgpCharts *charts,
+                                          uint32_t *kinds_out,
+                                          size_t kinds_capacity,
+                                          uint32_t *corners_out,
+                                          size_t corners_capacity,
+                                          uint32_t *layout_out,
+                                          size_t layout_capacity,
+                                          double *sizes_out,
+                                          size_t sizes_capacity);
+
+/**
+ * Releases a per-chart parameterization (NULL is ignored).
+ *
+ * # Safety
+ * `charts` must come from `uvf_pgp_charts` and not have been freed.
+ */
+void uvf_pgp_charts_free(struct UvfPgpCharts *charts);
 
 #ifdef __cplusplus
 }  // extern "C"

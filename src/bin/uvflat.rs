@@ -19,6 +19,7 @@ use uvflat::methods::conformal::Pin;
 use uvflat::methods::length_area_distortion::DistortionEnergy;
 use uvflat::methods::near_optimal::{near_optimal_map, NearOptimalOptions};
 use uvflat::methods::nonlinear::{nonlinear_map, NonlinearMethod, NonlinearOptions};
+use uvflat::methods::pgp::charts::{chart_parameterization, ChartKind, ChartParameterization};
 use uvflat::methods::pgp::quality::quality;
 use uvflat::methods::pgp::smoothing::{SmoothingOptions, Symmetry};
 use uvflat::methods::pgp::{pgp, quad_dominant_remesh, PgpOptions, PolygonMesh};
@@ -95,6 +96,15 @@ struct PgpArgs {
     /// Draw the quad-dominant remesh into this SVG file (needs --quad-mesh).
     #[arg(long = "quad-svg")]
     quad_svg: Option<PathBuf>,
+    /// Write the per-chart parameterization (§3.3–3.4: the surface cut along the chart
+    /// boundaries, each chart with its own (u, v) in cells, a regular chart the unit square) to
+    /// this OBJ, one group per chart.
+    #[arg(long)]
+    charts: Option<PathBuf>,
+    /// Iso-lines per period bounding the charts of --charts (a whole number >= 1; 1: the
+    /// paper's iso-2kpi lines).
+    #[arg(long = "chart-density", default_value_t = 1.0)]
+    chart_density: f64,
     /// Draw the iso-kπ lines and singularities on the surface into this SVG file.
     #[arg(long)]
     svg: Option<PathBuf>,
@@ -639,6 +649,9 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
     if !(args.quad_density >= 1.0 && args.quad_density.fract() == 0.0) {
         return Err(usage(format!("--quad-density must be a whole number >= 1 (got {})", args.quad_density)));
     }
+    if !(args.chart_density >= 1.0 && args.chart_density.fract() == 0.0) {
+        return Err(usage(format!("--chart-density must be a whole number >= 1 (got {})", args.chart_density)));
+    }
     let symmetry = match args.smooth {
         SmoothName::None => None,
         SmoothName::TwoPi => Some(Symmetry::Vector),
@@ -686,6 +699,14 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
         }
         None => None,
     };
+    let charts = match &args.charts {
+        Some(path) => {
+            let c = chart_parameterization(&mesh, &result, args.chart_density)?;
+            write_chart_obj(path, &c)?;
+            Some(chart_counts(&c))
+        }
+        None => None,
+    };
     let s = &result.singularities;
     let genus = mesh.topology().genus;
     if args.json {
@@ -704,6 +725,10 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
                 "quad_mesh": quads.map(|(faces, quads, vertices)| serde_json::json!({
                     "faces": faces, "quads": quads, "vertices": vertices,
                     "density": args.quad_density,
+                })),
+                "charts": charts.map(|k| serde_json::json!({
+                    "assembled": k[0], "mean_value": k[1], "split_quads": k[2], "atlas": k[3], "unresolved": k[4],
+                    "density": args.chart_density,
                 })),
             })
         );
@@ -741,8 +766,57 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
                 path.display()
             );
         }
+        if let (Some(k), Some(path)) = (charts, &args.charts) {
+            println!(
+                "  charts (assembled / mean value / split quads / atlas / unresolved)  {} / {} / {} / {} / {} -> {}",
+                k[0],
+                k[1],
+                k[2],
+                k[3],
+                k[4],
+                path.display()
+            );
+        }
     }
     Ok(())
+}
+
+/// Charts of each kind: assembled, mean value, split quads, atlas, unresolved.
+fn chart_counts(c: &ChartParameterization) -> [usize; 5] {
+    let mut counts = [0; 5];
+    for ch in &c.charts {
+        counts[match ch.kind {
+            ChartKind::Assembled => 0,
+            ChartKind::MeanValue => 1,
+            ChartKind::SplitQuad => 2,
+            ChartKind::Atlas => 3,
+            ChartKind::Unresolved => 4,
+        }] += 1;
+    }
+    counts
+}
+
+/// Writes the cut triangulation with per-corner `vt`, one `g chartN` group per chart.
+fn write_chart_obj(path: &Path, c: &ChartParameterization) -> Result<(), Failure> {
+    use std::io::Write;
+    let fail = |e: std::io::Error| Failure { message: format!("cannot write {}: {e}", path.display()), usage: false };
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(fail)?);
+    for p in &c.positions {
+        writeln!(out, "v {} {} {}", p[0], p[1], p[2]).map_err(fail)?;
+    }
+    for q in c.uv.iter().flatten() {
+        writeln!(out, "vt {} {}", q[0], q[1]).map_err(fail)?;
+    }
+    let mut current = u32::MAX;
+    for (r, t) in c.triangles.iter().enumerate() {
+        if c.chart[r] != current {
+            current = c.chart[r];
+            writeln!(out, "g chart{current}").map_err(fail)?;
+        }
+        let corner = |k: usize| format!("{}/{}", t[k] + 1, 3 * r + k + 1);
+        writeln!(out, "f {} {} {}", corner(0), corner(1), corner(2)).map_err(fail)?;
+    }
+    out.flush().map_err(fail)
 }
 
 /// Writes a polygon mesh as `v` and `f` lines.

@@ -605,6 +605,46 @@ static void check_pgp(void) {
         uvf_chart_layout_free(layout);
     }
     uvf_chart_layout_free(NULL);
+    UvfPgpCharts *charts = NULL;
+    status = uvf_pgp_charts(pgp, 1.0, &charts);
+    check(status == UVF_OK && charts != NULL, "per-chart parameterization of a torus");
+    if (charts != NULL) {
+        UvfPgpChartsInfo ci;
+        check(uvf_pgp_charts_info(charts, &ci) == UVF_OK && ci.chart_count > 0 && ci.triangle_count > 0,
+              "charts info");
+        check(ci.kind_counts[UVF_PGP_CHART_ASSEMBLED] == ci.chart_count, "a torus without singularity is assembled");
+        double *cpos = malloc(sizeof(double) * 3 * ci.vertex_count);
+        uint32_t *ctri = malloc(sizeof(uint32_t) * 3 * ci.triangle_count);
+        double *cuv = malloc(sizeof(double) * 6 * ci.triangle_count);
+        uint32_t *cchart = malloc(sizeof(uint32_t) * ci.triangle_count);
+        uint32_t *kinds = malloc(sizeof(uint32_t) * ci.chart_count);
+        double *sizes = malloc(sizeof(double) * 2 * ci.chart_count);
+        check(uvf_pgp_charts_copy(charts, cpos, 3 * ci.vertex_count, ctri, 3 * ci.triangle_count, cuv,
+                                  6 * ci.triangle_count, cchart, ci.triangle_count, NULL, 0) == UVF_OK,
+              "charts copy (origin skipped)");
+        check(uvf_pgp_charts_copy(charts, NULL, 0, NULL, 0, cuv, 1, NULL, 0, NULL, 0) == UVF_INVALID_ARGUMENT,
+              "a short uv output is rejected");
+        check(uvf_pgp_charts_copy_charts(charts, kinds, ci.chart_count, NULL, 0, NULL, 0, sizes,
+                                         2 * ci.chart_count) == UVF_OK,
+              "charts copy per chart");
+        int inside = 1;
+        for (k = 0; k < 6 * ci.triangle_count; k++) {
+            double w = sizes[2 * cchart[k / 6] + (k % 2)];
+            if (cuv[k] < -1e-6 || cuv[k] > w + 1e-6 || ctri[k / 2] >= ci.vertex_count) inside = 0;
+        }
+        check(inside, "every (u, v) lies in its chart's extent");
+        free(cpos);
+        free(ctri);
+        free(cuv);
+        free(cchart);
+        free(kinds);
+        free(sizes);
+        uvf_pgp_charts_free(charts);
+    }
+    uvf_pgp_charts_free(NULL);
+    charts = NULL;
+    check(uvf_pgp_charts(pgp, 0.5, &charts) == UVF_INVALID_ARGUMENT && charts == NULL, "a chart density below 1 is rejected");
+    check(uvf_pgp_charts_info(NULL, NULL) == UVF_INVALID_ARGUMENT, "a NULL charts handle is rejected");
     check(uvf_pgp_info(NULL, &info) == UVF_INVALID_ARGUMENT, "NULL pgp handle is rejected");
     uvf_pgp_free(pgp);
     uvf_pgp_free(NULL);

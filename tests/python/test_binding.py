@@ -117,7 +117,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 68, sorted(functions)
+    assert len(functions) == 73, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -166,6 +166,7 @@ STRUCTS = {
     "UvfPgpInfo": _library.UvfPgpInfo,
     "UvfQuadMeshInfo": _library.UvfQuadMeshInfo,
     "UvfChartLayoutInfo": _library.UvfChartLayoutInfo,
+    "UvfPgpChartsInfo": _library.UvfPgpChartsInfo,
 }
 
 
@@ -999,6 +1000,36 @@ def test_pgp_quad_mesh_is_a_manifold_quad_dominant_mesh_and_the_chart_layout_has
     assert "quad-dominant remesh" in cli.stdout
     face_lines = [line for line in out.read_text().splitlines() if line.startswith("f ")]
     assert len(face_lines) > 10 and all(len(line.split()) in (4, 5) for line in face_lines)
+
+
+def test_pgp_charts_cut_the_surface_into_charts_that_do_not_fold(tmp_path):
+    p, t = load_mesh("closed_g0_bunny.obj")
+    r = uvflat.pgp(p, t, charts=1)
+    c = r.charts
+    assert (c.positions[: len(p)] == p).all() and c.triangles.max() < len(c.positions)
+    assert c.uv.shape == (len(c.triangles), 3, 2) and c.chart.max() == len(c.kinds) - 1
+    assert (c.origin < len(t)).all()
+    kinds = set(c.kinds.tolist())
+    assert uvflat.UVF_PGP_CHART_SPLIT_QUAD in kinds and uvflat.UVF_PGP_CHART_UNRESOLVED not in kinds
+    # The cut triangulation covers the surface exactly, and no chart folds.
+    def area3(pos, tri):
+        a, b, d = pos[tri[:, 0]], pos[tri[:, 1]], pos[tri[:, 2]]
+        return 0.5 * np.linalg.norm(np.cross(b - a, d - a), axis=1)
+
+    cut_area = area3(c.positions, c.triangles)
+    assert abs(cut_area.sum() / area3(p, t).sum() - 1) < 1e-9
+    e1, e2 = c.uv[:, 1] - c.uv[:, 0], c.uv[:, 2] - c.uv[:, 0]
+    signed = 0.5 * (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    assert (signed[cut_area > 1e-12 * cut_area.sum()] > 0).all()
+    assert (c.uv >= -1e-6).all() and (c.uv <= c.sizes[c.chart][:, None, :] + 1e-6).all()
+    with pytest.raises(uvflat.InvalidArgument, match="density"):
+        uvflat.pgp(p, t, charts=0.5)
+    out = tmp_path / "charts.obj"
+    cli = run_cli("pgp", str(mesh_path("closed_g0_bunny.obj")), "-o", "/dev/null", "--charts", str(out))
+    assert "charts (assembled" in cli.stdout
+    lines = out.read_text().splitlines()
+    assert sum(line.startswith("g chart") for line in lines) == len(c.kinds)
+    assert sum(line.startswith("f ") for line in lines) == len(c.triangles)
 
 
 def test_atlas_of_a_genus_one_mesh_is_flip_free_inside_the_unit_square():

@@ -1050,11 +1050,30 @@ class PgpResult:
     #: the chart layout when ``chart_layout`` was set: ``(polylines, chart_corners)``, the chart
     #: boundaries as ``(j, 3)`` point arrays and the number of corners of every chart
     chart_layout: Optional[Tuple[List[np.ndarray], np.ndarray]] = None
+    #: the per-chart parameterization when ``charts`` was given
+    charts: Optional["PgpCharts"] = None
 
     @property
     def uv(self) -> np.ndarray:
         """``(m, 3, 2)`` texture coordinates (θ, φ)/2π: one texture tile per period."""
         return self.corner_coords / (2.0 * np.pi)
+
+
+@dataclasses.dataclass(frozen=True)
+class PgpCharts:
+    """The per-chart parameterization of a PGP result (``uvf_pgp_charts``, §3.3–3.4): the
+    surface cut along the iso-lines, each chart with its own (u, v) in cells (a regular chart
+    is the unit square)."""
+
+    positions: np.ndarray  #: ``(k, 3)`` vertices of the cut triangulation (input vertices first)
+    triangles: np.ndarray  #: ``(m, 3)`` its triangles, counter-clockwise
+    uv: np.ndarray  #: ``(m, 3, 2)`` (u, v) at every corner, in cells
+    chart: np.ndarray  #: ``(m,)`` chart of every triangle
+    origin: np.ndarray  #: ``(m,)`` input triangle every triangle lies in
+    kinds: np.ndarray  #: ``(c,)`` ``UVF_PGP_CHART_*`` of every chart
+    corners: np.ndarray  #: ``(c,)`` corners of every chart (0: not a disk)
+    layout: np.ndarray  #: ``(c,)`` layout chart it is (or is a quad of)
+    sizes: np.ndarray  #: ``(c, 2)`` (u, v) extent of every chart, in cells
 
 
 _SMOOTHING = {
@@ -1077,6 +1096,7 @@ def pgp(
     progress: Optional[ProgressCallback] = None,
     quad_mesh: Optional[float] = None,
     chart_layout: bool = False,
+    charts: Optional[float] = None,
 ) -> PgpResult:
     """Periodic Global Parameterization (Ray, Li, Lévy, Sheffer, Alliez 2006; ``uvf_pgp``) of a
     manifold mesh of any genus, without cutting: principal-curvature field (or ``field``, an
@@ -1087,7 +1107,10 @@ def pgp(
     ``quad_mesh`` (a whole number of iso-lines per period, e.g. 8) also returns the quad-dominant
     remesh of §5 (vertices on the surface, non-quads split into quads and triangles; quad sides
     about 2π / (ω · quad_mesh) long); ``chart_layout=True`` returns the chart boundaries along the
-    iso-2kπ lines (§3.3). The re-parameterization of singular charts (§3.4) is not implemented."""
+    iso-2kπ lines (§3.3); ``charts`` (a whole number of lines per period, 1 for the paper's
+    iso-2kπ lines) returns the per-chart parameterization of §3.4 (:class:`PgpCharts`): charts
+    without singularity assembled, singular ones re-parameterized by mean-value coordinates
+    (N-sided ones split into quads), charts that are not disks flattened by the atlas."""
     p, t = _mesh_arrays(positions, triangles)
     lib = L.library()
     options = L.UvfPgpOptions()
@@ -1112,6 +1135,7 @@ def pgp(
     try:
         remesh = _quad_mesh(lib, handle, quad_mesh) if quad_mesh is not None else None
         layout = _chart_layout(lib, handle) if chart_layout else None
+        cut = _charts(lib, handle, charts) if charts is not None else None
         info = L.UvfPgpInfo()
         _check(lib.uvf_pgp_info(handle, byref(info)))
         vertices = np.empty(info.singular_vertex_count, dtype=np.uint32)
@@ -1144,6 +1168,7 @@ def pgp(
         info.alignment_degrees,
         remesh,
         layout,
+        cut,
     )
 
 
@@ -1187,6 +1212,45 @@ def _chart_layout(lib, handle) -> Tuple[List[np.ndarray], np.ndarray]:
     finally:
         lib.uvf_chart_layout_free(layout)
     return _split(points, sizes), corners
+
+
+def _charts(lib, handle, density: float) -> PgpCharts:
+    charts = POINTER(L.UvfPgpCharts)()
+    _check(lib.uvf_pgp_charts(handle, float(density), byref(charts)))
+    try:
+        info = L.UvfPgpChartsInfo()
+        _check(lib.uvf_pgp_charts_info(charts, byref(info)))
+        m, c = info.triangle_count, info.chart_count
+        positions = np.empty((info.vertex_count, 3), dtype=np.float64)
+        triangles = np.empty((m, 3), dtype=np.uint32)
+        uv = np.empty((m, 3, 2), dtype=np.float64)
+        chart = np.empty(m, dtype=np.uint32)
+        origin = np.empty(m, dtype=np.uint32)
+        _check(
+            lib.uvf_pgp_charts_copy(
+                charts,
+                _f64p(positions),
+                positions.size,
+                _u32p(triangles),
+                triangles.size,
+                _f64p(uv),
+                uv.size,
+                _u32p(chart),
+                chart.size,
+                _u32p(origin),
+                origin.size,
+            )
+        )
+        kinds, corners, layout = (np.empty(c, dtype=np.uint32) for _ in range(3))
+        sizes = np.empty((c, 2), dtype=np.float64)
+        _check(
+            lib.uvf_pgp_charts_copy_charts(
+                charts, _u32p(kinds), c, _u32p(corners), c, _u32p(layout), c, _f64p(sizes), sizes.size
+            )
+        )
+    finally:
+        lib.uvf_pgp_charts_free(charts)
+    return PgpCharts(positions, triangles, uv, chart, origin, kinds, corners, layout, sizes)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -72,6 +72,12 @@ UVF_ABF_WEIGHTS_ANGLE_AND_SUPPLEMENT = 0
 UVF_ABF_WEIGHTS_INVERSE_SQUARE = 1
 UVF_ABF_WEIGHTS_INVERSE = 2
 
+UVF_PGP_CHART_ASSEMBLED = 0
+UVF_PGP_CHART_MEAN_VALUE = 1
+UVF_PGP_CHART_SPLIT_QUAD = 2
+UVF_PGP_CHART_ATLAS = 3
+UVF_PGP_CHART_UNRESOLVED = 4
+
 UVF_NONLINEAR_SLIM = 0
 UVF_NONLINEAR_ARAP = 1
 UVF_NONLINEAR_MIPS = 2
@@ -489,6 +495,21 @@ class UvfChartLayoutInfo(Structure):
     ]
 
 
+class UvfPgpCharts(Structure):
+    """Opaque ``struct UvfPgpCharts`` (only used through pointers)."""
+
+
+class UvfPgpChartsInfo(Structure):
+    """``struct UvfPgpChartsInfo``: counts of a per-chart parameterization."""
+
+    _fields_ = [
+        ("vertex_count", c_size_t),
+        ("triangle_count", c_size_t),
+        ("chart_count", c_size_t),
+        ("kind_counts", c_size_t * 5),
+    ]
+
+
 class UvfBoundaryEditor(Structure):
     """Opaque ``struct UvfBoundaryEditor`` (only used through pointers)."""
 
@@ -627,6 +648,17 @@ PROTOTYPES = {
         [POINTER(UvfChartLayout), _u32p, c_size_t, _f64p, c_size_t, _u32p, c_size_t],
     ),
     "uvf_chart_layout_free": (None, [POINTER(UvfChartLayout)]),
+    "uvf_pgp_charts": (UvfStatus, [POINTER(UvfPgp), c_double, POINTER(POINTER(UvfPgpCharts))]),
+    "uvf_pgp_charts_info": (UvfStatus, [POINTER(UvfPgpCharts), POINTER(UvfPgpChartsInfo)]),
+    "uvf_pgp_charts_copy": (
+        UvfStatus,
+        [POINTER(UvfPgpCharts), _f64p, c_size_t, _u32p, c_size_t, _f64p, c_size_t, _u32p, c_size_t, _u32p, c_size_t],
+    ),
+    "uvf_pgp_charts_copy_charts": (
+        UvfStatus,
+        [POINTER(UvfPgpCharts), _u32p, c_size_t, _u32p, c_size_t, _u32p, c_size_t, _f64p, c_size_t],
+    ),
+    "uvf_pgp_charts_free": (None, [POINTER(UvfPgpCharts)]),
     "uvf_atlas_options_default": (None, [POINTER(UvfAtlasOptions)]),
     "uvf_atlas": (
         UvfStatus,

@@ -3,9 +3,8 @@
 //! period), given here as polylines on the surface between chart corners, and the charts are
 //! the faces they bound (with their number of corners: four for a regular chart).
 //!
-//! Not implemented: the per-chart (θ, φ) assembly and the re-parameterization of charts
-//! with singularities by mean-value coordinates (§3.4), which need the chart boundaries
-//! inserted into the triangulation.
+//! The per-chart parameterization of §3.4 (the chart boundaries inserted into the
+//! triangulation, charts assembled or re-parameterized) is [`super::charts`].
 
 use super::isolines::{iso_graph, IsoGraph};
 use super::remesh::corner_nodes;

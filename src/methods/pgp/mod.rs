@@ -14,10 +14,11 @@
 //! - [`isolines`]: the graph of iso-lines on the surface (§3.3 Algorithm 2, and §5's density);
 //! - [`layout`]: the chart layout, chart boundaries along the iso-2kπ lines (§3.3);
 //! - [`remesh`]: the quad-dominant remesh (§5);
-//! - [`frames`]: tangent frames and rotation matching shared by the steps.
-//!
-//! Not implemented yet: the per-chart parameterization and the re-parameterization of
-//! singular charts by mean-value coordinates (§3.4).
+//! - [`frames`]: tangent frames and rotation matching shared by the steps;
+//! - [`refine`]: the chart boundaries inserted into the triangulation (§3.3);
+//! - [`charts`]: the per-chart parameterization: charts assembled, singular ones
+//!   re-parameterized by mean-value coordinates (§3.4);
+//! - [`split`]: N-sided singular charts split into quads (§3.4).
 //!
 //! Pipeline of [`pgp`]: field (curvature directions or the caller's) → optional smoothing →
 //! optional curl correction → periodic solve → per-corner (θ, φ) → singularities.

@@ -5,7 +5,7 @@
 //! - **stretch**: Sander et al.'s L2 stretch (`sqrt(Σ A (σ1² + σ2²)/2 / Σ A)`, 1 = isometric up
 //!   to one global scale) of the map from (θ, φ)/ω to the surface over the *regular* triangles
 //!   (not singular and touching no singular vertex or edge: the paper re-parameterizes the
-//!   charts around singularities, §3.4, which is not implemented here), after the global scale
+//!   charts around singularities, §3.4, [`super::charts`]; this measures PGP's own (θ, φ)), after the global scale
 //!   that equalizes the total areas ([`crate::metrics`]);
 //! - **shear**: the area-weighted mean over the regular triangles of |cos ψ|, ψ the angle between
 //!   the images ∂p/∂θ and ∂p/∂φ of the two parameter directions (0 when the iso-θ and iso-φ lines
