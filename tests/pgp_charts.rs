@@ -97,28 +97,8 @@ fn check(mesh: &TriMesh, c: &ChartParameterization) -> Report {
         .map(|t| area3(c.positions[t[0] as usize], c.positions[t[1] as usize], c.positions[t[2] as usize]))
         .sum();
     rep.area_ratio = cut / input;
-    let unresolved: f64 = (0..c.triangles.len())
-        .filter(|&r| c.charts[c.chart[r] as usize].kind == ChartKind::Unresolved)
-        .map(|r| {
-            area3(
-                c.positions[c.triangles[r][0] as usize],
-                c.positions[c.triangles[r][1] as usize],
-                c.positions[c.triangles[r][2] as usize],
-            )
-        })
-        .sum();
-    rep.unresolved_area = unresolved / cut;
-    let atlas: f64 = (0..c.triangles.len())
-        .filter(|&r| c.charts[c.chart[r] as usize].kind == ChartKind::Atlas)
-        .map(|r| {
-            area3(
-                c.positions[c.triangles[r][0] as usize],
-                c.positions[c.triangles[r][1] as usize],
-                c.positions[c.triangles[r][2] as usize],
-            )
-        })
-        .sum();
-    rep.atlas_area = atlas / cut;
+    rep.unresolved_area = area_share(c, &[ChartKind::Unresolved]);
+    rep.atlas_area = area_share(c, &[ChartKind::Atlas]);
     let quad = |r: usize| {
         matches!(c.charts[c.chart[r] as usize].kind, ChartKind::Assembled | ChartKind::MeanValue | ChartKind::SplitQuad)
     };

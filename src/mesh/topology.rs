@@ -40,18 +40,24 @@ pub fn triangle_components(triangle_count: usize, conn: &Connectivity) -> (Vec<u
             }
         }
     }
-    let mut comp = vec![NONE; triangle_count];
+    set_labels(&mut parent)
+}
+
+/// Numbers the sets of a union–find forest 0, 1, … in order of their lowest element (when, as
+/// here, every root is the lowest element of its set, roots are labelled first); returns the
+/// label of every element and the number of sets.
+pub(crate) fn set_labels(parent: &mut [u32]) -> (Vec<u32>, usize) {
+    let mut label = vec![NONE; parent.len()];
     let mut count = 0u32;
-    for t in 0..triangle_count {
-        let root = find(&mut parent, t as u32) as usize;
-        // Roots are the lowest triangle of their component, so they are labelled first.
-        if comp[root] == NONE {
-            comp[root] = count;
+    for x in 0..parent.len() {
+        let root = find(parent, x as u32) as usize;
+        if label[root] == NONE {
+            label[root] = count;
             count += 1;
         }
-        comp[t] = comp[root];
+        label[x] = label[root];
     }
-    (comp, count as usize)
+    (label, count as usize)
 }
 
 /// Root of `x` in a union–find forest, halving the path on the way.

@@ -87,17 +87,7 @@ impl Graph {
                 }
             }
         }
-        let mut comp = vec![NONE; n];
-        let mut count = 0u32;
-        for v in 0..n {
-            let root = find(&mut parent, v as u32) as usize;
-            if comp[root] == NONE {
-                comp[root] = count;
-                count += 1;
-            }
-            comp[v] = comp[root];
-        }
-        (comp, count as usize)
+        crate::mesh::topology::set_labels(&mut parent)
     }
 }
 

@@ -38,7 +38,8 @@ use crate::boundary::{BoundaryShape, Distribution};
 use crate::error::Result;
 use crate::geometry::distance;
 use crate::mesh::connectivity::next;
-use crate::mesh::{topology::find, TriMesh, NONE};
+use crate::mesh::topology::{find, set_labels};
+use crate::mesh::{TriMesh, NONE};
 use crate::methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions, Weights};
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -181,17 +182,7 @@ fn regions(cut: &TriMesh, refined: &RefinedMesh) -> (Vec<u32>, usize) {
             parent[a.max(b) as usize] = a.min(b);
         }
     }
-    let mut label = vec![NONE; parent.len()];
-    let mut count = 0;
-    for r in 0..parent.len() {
-        let root = find(&mut parent, r as u32) as usize;
-        if label[root] == NONE {
-            label[root] = count;
-            count += 1;
-        }
-        label[r] = label[root];
-    }
-    (label, count as usize)
+    set_labels(&mut parent)
 }
 
 /// A transition of eq. 16: `x ↦ P^rot x + 2π shift`, P(θ, φ) = (φ, −θ).
