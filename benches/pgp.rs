@@ -1,6 +1,6 @@
 //! Time of the whole PGP pipeline (Ray et al. 2006: curvature, smoothing, periodic solve,
-//! extraction, singularities, then the chart layout of §3.3 and the quad-dominant remesh of
-//! §5) on large meshes, as a Markdown table of medians. The target is the full pipeline
+//! extraction, singularities, then the chart layout of §3.3, the per-chart parameterization of
+//! §3.4 and the quad-dominant remesh of §5) on large meshes, as a Markdown table of medians. The target is the full pipeline
 //! on a 200k-face mesh in under 60 s on this 2-core machine (the paper: 17 min for 200k faces
 //! on a 1.7 GHz machine).
 //!
@@ -9,11 +9,13 @@
 //!     UVFLAT_PGP_RUNS=1 cargo bench --bench pgp       # runs per mesh (default 3, median)
 //!
 //! Columns: wall seconds of `pgp` (everything up to the singularities), of the chart layout,
-//! of the remesh (8 lines per period), their total, and the remesh's face count and quad share.
+//! of the per-chart parameterization (one line per period), of the remesh (8 lines per
+//! period), their total, the number of charts, and the remesh's face count and quad share.
 //! The load average before and after is printed: the machine is shared.
 
 use std::path::PathBuf;
 use std::time::Instant;
+use uvflat::methods::pgp::charts::chart_parameterization;
 use uvflat::methods::pgp::{chart_layout, pgp, quad_dominant_remesh, PgpOptions};
 use uvflat::progress::Progress;
 use uvflat::TriMesh;
@@ -44,33 +46,40 @@ fn main() {
     };
     let runs: usize = std::env::var("UVFLAT_PGP_RUNS").ok().and_then(|s| s.parse().ok()).unwrap_or(3).max(1);
     println!("load average before: {}", load_average());
-    println!("| mesh | triangles | pgp s | chart layout s | remesh s | total s | remesh faces | quads |");
-    println!("|---|--:|--:|--:|--:|--:|--:|--:|");
+    println!(
+        "| mesh | triangles | pgp s | chart layout s | charts s | remesh s | total s | charts | remesh faces | quads |"
+    );
+    println!("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|");
     for path in &meshes {
         let mesh = load(path);
-        let (mut solve, mut layout, mut remesh, mut total) = (vec![], vec![], vec![], vec![]);
-        let mut faces = (0, 0);
+        let (mut solve, mut layout, mut charts, mut remesh, mut total) = (vec![], vec![], vec![], vec![], vec![]);
+        let (mut faces, mut chart_count) = ((0, 0), 0);
         for _ in 0..runs {
             let start = Instant::now();
             let r = pgp(&mesh, &PgpOptions::default(), &mut Progress::none()).expect("pgp");
             let t1 = start.elapsed().as_secs_f64();
             let l = chart_layout(&mesh, &r).expect("chart layout");
             let t2 = start.elapsed().as_secs_f64();
-            let q = quad_dominant_remesh(&mesh, &r, DENSITY).expect("remesh");
+            let c = chart_parameterization(&mesh, &r, 1.0).expect("charts");
             let t3 = start.elapsed().as_secs_f64();
+            let q = quad_dominant_remesh(&mesh, &r, DENSITY).expect("remesh");
+            let t4 = start.elapsed().as_secs_f64();
             std::hint::black_box(&l);
             faces = (q.face_sizes.len(), q.quad_count());
+            chart_count = c.charts.len();
             solve.push(t1);
             layout.push(t2 - t1);
-            remesh.push(t3 - t2);
-            total.push(t3);
+            charts.push(t3 - t2);
+            remesh.push(t4 - t3);
+            total.push(t4);
         }
         let name = path.file_stem().map_or("?".into(), |s| s.to_string_lossy().into_owned());
         println!(
-            "| {name} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {:.1}% |",
+            "| {name} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {chart_count} | {} | {:.1}% |",
             mesh.triangle_count(),
             median(solve),
             median(layout),
+            median(charts),
             median(remesh),
             median(total),
             faces.0,
