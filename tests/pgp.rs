@@ -11,24 +11,19 @@
 //!
 //! Run with `--nocapture` for the per-mesh tables.
 
+#[path = "common/meshes.rs"]
+mod meshes;
 #[path = "common/surfaces.rs"]
 mod surfaces;
 
-use std::path::Path;
+use meshes::{closed_meshes, load};
+
 use uvflat::geometry::{cross, dot, norm, sub};
 use uvflat::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
 use uvflat::TriMesh;
 
-const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
-
 fn mesh_of(s: &surfaces::Sampled) -> TriMesh {
     TriMesh::new(&s.positions, &s.triangles).expect("valid sampled surface")
-}
-
-#[allow(dead_code)]
-fn load(file: &str) -> TriMesh {
-    let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-    TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"))
 }
 
 /// |sin| of the angle between two directions (0 = parallel or antiparallel).
@@ -291,17 +286,6 @@ fn the_progress_callback_can_cancel_pgp() {
 
 // ---------------------------------------------------------------------------------------------
 // Hopf–Poincaré on the real closed meshes
-
-fn closed_meshes() -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(MESH_DIR)
-        .expect("mesh dir")
-        .filter_map(|e| e.ok()?.file_name().into_string().ok())
-        .filter(|n| n.starts_with("closed_") && n.ends_with(".obj"))
-        .collect();
-    names.sort();
-    assert!(names.len() >= 10, "closed meshes missing from {MESH_DIR}");
-    names
-}
 
 #[test]
 fn singularity_indices_sum_to_the_euler_characteristic_on_every_closed_mesh() {

@@ -12,23 +12,19 @@
 //!
 //! Run with `--nocapture` for the per-mesh table.
 
+#[path = "common/meshes.rs"]
+mod meshes;
 #[path = "common/surfaces.rs"]
 mod surfaces;
 
+use meshes::{closed_meshes, load};
+
 use std::collections::HashMap;
-use std::path::Path;
 use uvflat::geometry::{cross, norm, sub};
 use uvflat::methods::pgp::charts::{chart_parameterization, ChartKind, ChartParameterization};
 use uvflat::methods::pgp::{pgp, PgpOptions, PgpResult};
 use uvflat::progress::Progress;
 use uvflat::TriMesh;
-
-const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
-
-fn load(file: &str) -> TriMesh {
-    let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-    TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"))
-}
 
 fn run(mesh: &TriMesh) -> PgpResult {
     pgp(mesh, &PgpOptions::default(), &mut Progress::none()).unwrap()
@@ -225,13 +221,7 @@ fn check_mesh(name: &str, mesh: &TriMesh, density: f64) -> String {
 
 #[test]
 fn every_closed_mesh_is_cut_into_charts_that_do_not_fold_and_join_continuously() {
-    let mut names: Vec<String> = std::fs::read_dir(MESH_DIR)
-        .expect("mesh dir")
-        .filter_map(|e| e.ok()?.file_name().into_string().ok())
-        .filter(|n| n.starts_with("closed_") && n.ends_with(".obj"))
-        .collect();
-    names.sort();
-    assert!(names.len() >= 10, "closed meshes missing from {MESH_DIR}");
+    let names = closed_meshes();
     let density: f64 = std::env::var("UVFLAT_CHART_DENSITY").map_or(1.0, |d| d.parse().expect("a number"));
     println!("| mesh | triangles | singular triangles | charts | assembled | mean value | split quads | atlas | quad-chart area | continuous edges / inner seams | s |");
     println!("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|");
