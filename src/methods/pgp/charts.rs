@@ -273,8 +273,11 @@ impl Context<'_> {
         }
         let k = self.scale * self.result.omega * (area / uv_area).sqrt();
         let mut out = ChartOutput::default();
-        for c in 0..atlas.charts.len() {
-            let mine: Vec<usize> = (0..members.len()).filter(|&i| atlas.chart_of_triangle[i] as usize == c).collect();
+        let mut of_chart: Vec<Vec<usize>> = vec![Vec::new(); atlas.charts.len()];
+        for (i, &c) in atlas.chart_of_triangle.iter().enumerate() {
+            of_chart[c as usize].push(i);
+        }
+        for (c, mine) in of_chart.iter().enumerate() {
             let uv: Vec<[[f64; 2]; 3]> =
                 mine.iter().map(|&i| atlas.triangles[i].map(|v| atlas.uv[v as usize].map(|x| x * k))).collect();
             let (uv, size) = to_origin(uv);
