@@ -159,11 +159,12 @@ pub struct UvfPgpOptions {
     pub rho: f64,
     /// ε of the smoothing's unit-norm penalty (default 0.1).
     pub smoothing_epsilon: f64,
-    /// ε of the unit-norm penalty (default 1e-3; 0 = linear solve only).
+    /// ε of the unit-norm penalty (default 0.1, the paper's is 1e-3: see the README; 0 = linear
+    /// solve only).
     pub epsilon: f64,
     /// Newton stops when ‖∇F**‖ is below this (default 1e-6).
     pub gradient_tolerance: f64,
-    /// Newton iteration limit (default 30).
+    /// Newton iteration limit (default 10).
     pub max_newton_iterations: u32,
     /// Curvature neighbourhood, as in `UvfCurvatureOptions` (default `UVF_CURVATURE_RINGS`).
     pub curvature_neighbourhood: u32,

@@ -68,7 +68,8 @@ pub struct PgpOptions {
     pub smoothing: Option<SmoothingOptions>,
     /// Curl correction (§4.1).
     pub curl_correction: bool,
-    /// Periodic solve: ε (default 10⁻³), gradient tolerance (10⁻⁶), iterations.
+    /// Periodic solve: ε (default [`solver::PERIODIC_EPSILON`] = 0.1; paper 10⁻³), gradient
+    /// tolerance (10⁻⁶), iterations ([`solver::PERIODIC_ITERATIONS`] = 10).
     pub newton: NewtonOptions,
 }
 

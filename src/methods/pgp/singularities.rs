@@ -14,29 +14,38 @@
 //! - an interior **vertex** is singular when the signed (θ, φ) angles at its corners do not sum
 //!   to 2π (tolerance 10⁻⁶ rad).
 //!
-//! Index. The gradient directions ∇θ^T of the per-triangle parameterizations form a field of
-//! crosses (the transitions rotate (θ, φ) by quarter turns). Its index at an interior vertex v
-//! is
+//! Index. The parameterization defines a frame per triangle T: the direction of the surface
+//! that T's (θ, φ) map sends to the θ axis, J_T⁻¹(1, 0). Across the transitions of eq. 16
+//! (quarter turns) these frames form a field of crosses, whose index at an interior vertex v is
 //!
 //! ```text
 //! I(v) = (K_v + Σ Δ_e) / 2π
 //! ```
 //!
 //! with K_v the angle defect (2π minus the 3D corner angles at v) and, for each edge e crossed
-//! counter-clockwise around v from T to T', Δ_e the change of direction after parallel
-//! transport across e (unfolding) minus the transition rotation τ_e·π/2 of eq. 16, reduced
-//! into (−π, π] — the index of a per-face cross field (Ray, Vallet, Li, Lévy 2008), with the
-//! matching given by the parameterization itself. τ_e is the transition of e's first endpoint,
-//! so I(v) is a multiple of 1/4; every Δ_e enters the two endpoints of e with opposite signs,
-//! so discrete Gauss–Bonnet (Σ K_v = 2πχ) gives Σ I(v) = χ = 2 − 2g on every closed mesh.
-//! Where the parameterization is regular around v (transitions telescope, the (θ, φ) star is
-//! planar) I(v) = 0; the vertices with I(v) ≠ 0 are the singular points, and lie on singular
-//! elements.
+//! counter-clockwise around v from T1 to T2, Δ_e the change of the frame's direction after
+//! parallel transport across e (unfolding) minus the image-side rotation. Both are measured
+//! from the shared edge: on each side, d_T is the 3D angle from e to the frame and α_T the
+//! (θ, φ) angle from e's image to the θ axis, both in (−π, π]. A linear map keeps the order of
+//! directions, so d_T and α_T are lifts of the same turn (same sign when T is positive); then
+//! `Δ_e = (d_T2 − d_T1) − R_e` with R_e the image rotation α_T2 − α_T1 rounded to the nearest
+//! value τ_e·π/2 + 2πm allowed by the transition rotation τ_e (τ of e's first endpoint; exact
+//! wherever e is not singular). Around a vertex whose (θ, φ) star is planar the changes
+//! telescope to I(v) = (Σ image corner angles − 2π)/2π = 0, whatever the shear of the maps
+//! (the gradient ∇θ, used before, can turn by more than π between two sheared neighbours and
+//! gave spurious ±1 indices on sliver triangles). Every Δ_e enters the two endpoints of e with
+//! opposite signs, so discrete Gauss–Bonnet (Σ K_v = 2πχ) gives Σ I(v) = χ = 2 − 2g on every
+//! closed mesh, and I(v) is a multiple of 1/4. The vertices with I(v) ≠ 0 are the singular
+//! points, and lie on singular elements.
+//!
+//! The index of a per-face direction field modulo 2π/k ([`face_field_indices`], for the input
+//! and smoothed fields) is the same sum with Δ_e the transported change reduced into
+//! (−π/k, π/k] (Ray, Vallet, Li, Lévy 2008).
 //!
 //! Cost: O(F), in parallel.
 
 use super::extraction::CornerParameterization;
-use super::frames::{normalized, triangle_gradient, triangle_normal};
+use super::frames::{normalized, triangle_normal, wrap_angle};
 use crate::geometry::{cross, dot, sub};
 use crate::mesh::NONE;
 use crate::TriMesh;
@@ -171,18 +180,6 @@ fn singular_vertices(mesh: &TriMesh, param: &CornerParameterization) -> Vec<u32>
         .collect()
 }
 
-/// The direction of ∇θ^T on every triangle.
-fn gradient_directions(mesh: &TriMesh, param: &CornerParameterization) -> Vec<[f64; 3]> {
-    (0..mesh.triangle_count())
-        .into_par_iter()
-        .with_min_len(4096)
-        .map(|t| {
-            let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
-            triangle_gradient(&p, triangle_normal(mesh, t), [0, 1, 2].map(|c| param.coords[t][c][0]))
-        })
-        .collect()
-}
-
 /// The direction angle of each triangle's vector in the triangle's frame (x = edge 0→1,
 /// y = n × x), and the frames.
 fn face_angles(mesh: &TriMesh, directions: &[[f64; 3]]) -> Vec<(f64, [f64; 3], [f64; 3])> {
@@ -211,19 +208,77 @@ fn wrap_symmetric(x: f64, k: u32) -> f64 {
     y
 }
 
-/// Index of the ∇θ cross field at every interior vertex (module comment), matching the
-/// directions across each edge by the parameterization's own transition rotation (computed at
-/// the edge's first endpoint) rather than by the nearest quarter turn.
+/// Index of the parameterization's frame field at every interior vertex (module comment).
 fn cross_field_indices(mesh: &TriMesh, param: &CornerParameterization) -> Vec<f64> {
-    let frames = face_angles(mesh, &gradient_directions(mesh, param));
-    let change = edge_changes(mesh, &frames, |h, g, d| {
-        let (t1, k1, t2) = (h / 3, h % 3, g / 3);
-        // Corner of the same vertex (tail of h = head of g) in the twin's triangle.
-        let k2 = (g % 3 + 1) % 3;
-        let tau = (4 + param.rotation[t2][k2] - param.rotation[t1][k1]) % 4;
-        super::frames::wrap_angle(d - FRAC_PI_2 * tau as f64)
-    });
+    let frames = face_angles(mesh, &theta_preimages(mesh, param));
+    let twin = &mesh.connectivity().twin;
+    let mut change = vec![0.0; twin.len()];
+    for h in 0..twin.len() {
+        let g = twin[h];
+        if g == NONE || (g as usize) < h {
+            continue;
+        }
+        let g = g as usize;
+        let e = sub(mesh.points()[mesh.head(h as u32) as usize], mesh.points()[mesh.tail(h as u32) as usize]);
+        let (t1, k1, t2, kg) = (h / 3, h % 3, g / 3, g % 3);
+        // The edge tail → head of h: corners k1 → k1 + 1 in T1, kg + 1 → kg in T2.
+        let image1 = image_edge_angle(&param.coords[t1], k1, (k1 + 1) % 3);
+        let image2 = image_edge_angle(&param.coords[t2], (kg + 1) % 3, kg);
+        let (alpha1, alpha2) = (wrap_angle(-image1), wrap_angle(-image2));
+        let d1 = lift_near(frames[t1].0 - edge_angle(&frames[t1], e), alpha1);
+        let d2 = lift_near(frames[t2].0 - edge_angle(&frames[t2], e), alpha2);
+        let tau = (4 + param.rotation[t2][(kg + 1) % 3] - param.rotation[t1][k1]) % 4;
+        let allowed = FRAC_PI_2 * tau as f64;
+        let rotation = allowed + TAU * ((alpha2 - alpha1 - allowed) / TAU).round();
+        change[h] = d2 - d1 - rotation;
+        change[g] = -change[h];
+    }
     vertex_indices(mesh, &change)
+}
+
+/// J_T⁻¹(1, 0) on every triangle: the surface direction its (θ, φ) map sends to the θ axis
+/// (for a (θ, φ) triangle of zero area, the 3D direction of its largest θ change).
+fn theta_preimages(mesh: &TriMesh, param: &CornerParameterization) -> Vec<[f64; 3]> {
+    (0..mesh.triangle_count())
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|t| {
+            let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
+            let q = param.coords[t];
+            let (a, b) = (sub(p[1], p[0]), sub(p[2], p[0]));
+            let (qa, qb) = ([q[1][0] - q[0][0], q[1][1] - q[0][1]], [q[2][0] - q[0][0], q[2][1] - q[0][1]]);
+            let det = qa[0] * qb[1] - qb[0] * qa[1];
+            if det.abs() > 1e-300 {
+                // w = [a b] Q⁻¹ (1, 0), Q = [qa qb]: Q⁻¹ (1, 0) = (qb[1], −qa[1]) / det.
+                std::array::from_fn(|c| (a[c] * qb[1] - b[c] * qa[1]) / det)
+            } else {
+                let sign = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
+                if qa[0].abs() >= qb[0].abs() {
+                    a.map(|x| sign(qa[0]) * x)
+                } else {
+                    b.map(|x| sign(qb[0]) * x)
+                }
+            }
+        })
+        .collect()
+}
+
+/// Angle of the (θ, φ) image of the edge from corner `from` to corner `to`.
+fn image_edge_angle(q: &[[f64; 2]; 3], from: usize, to: usize) -> f64 {
+    (q[to][1] - q[from][1]).atan2(q[to][0] - q[from][0])
+}
+
+/// Angle of the 3D vector `e` in a triangle's frame.
+fn edge_angle(frame: &(f64, [f64; 3], [f64; 3]), e: [f64; 3]) -> f64 {
+    dot(e, frame.2).atan2(dot(e, frame.1))
+}
+
+/// The representative of the angle `x` (modulo 2π) within π of `target`. The 3D turn from an
+/// edge to the frame and the (θ, φ) turn from the edge's image to the θ axis have the same sign
+/// (a linear map keeps the order of directions), so the nearest lift is the exact one, also
+/// where both are ≈ ±π (edges along the iso-lines).
+fn lift_near(x: f64, target: f64) -> f64 {
+    target + wrap_angle(x - target)
 }
 
 /// Per half-edge h (with a twin g): the direction change crossing from h's triangle into g's,

@@ -45,7 +45,7 @@ use crate::TriMesh;
 use faer::c64;
 
 /// Default weight ε of the unit-norm penalty of the smoothing. The paper gives no value for
-/// it (10⁻³ is the periodic solve's). Where the fitting weight is small (isotropic regions)
+/// it (10⁻³ is its periodic solve's; ours is the same 0.1, [`super::solver::PERIODIC_EPSILON`]). Where the fitting weight is small (isotropic regions)
 /// nothing else anchors the norms: with ε = 10⁻³ shrinking the unknowns towards zero is
 /// cheaper than making them smooth, and the field collapses to |z| ≈ 0 (its directions are
 /// then noise). With ε = 0.1 the penalty outweighs the smoothing term per vertex, |z| stays
