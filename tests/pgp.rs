@@ -69,7 +69,12 @@ fn sphere_is_umbilic_with_curvature_one_over_r() {
             // region, within 2.6° (the 2-rings of the icosphere's valence-5 vertices and their
             // neighbours are not symmetric about the radius; measured up to 1.4°).
             let n = mesh.points()[v].map(|x| x / r);
-            assert!(dot(c.normal[v], n) > 0.999, "vertex {v}: normal {:?} · radial = {}", c.normal[v], dot(c.normal[v], n));
+            assert!(
+                dot(c.normal[v], n) > 0.999,
+                "vertex {v}: normal {:?} · radial = {}",
+                c.normal[v],
+                dot(c.normal[v], n)
+            );
             assert!(dot(c.kmax_direction[v], c.normal[v]).abs() < 1e-12);
             assert!(dot(c.kmin_direction[v], c.normal[v]).abs() < 1e-12);
             assert!(dot(c.kmax_direction[v], c.kmin_direction[v]).abs() < 1e-12);
