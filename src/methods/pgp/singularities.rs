@@ -211,15 +211,7 @@ fn wrap_symmetric(x: f64, k: u32) -> f64 {
 /// Index of the parameterization's frame field at every interior vertex (module comment).
 fn cross_field_indices(mesh: &TriMesh, param: &CornerParameterization) -> Vec<f64> {
     let frames = face_angles(mesh, &theta_preimages(mesh, param));
-    let twin = &mesh.connectivity().twin;
-    let mut change = vec![0.0; twin.len()];
-    for h in 0..twin.len() {
-        let g = twin[h];
-        if g == NONE || (g as usize) < h {
-            continue;
-        }
-        let g = g as usize;
-        let e = sub(mesh.points()[mesh.head(h as u32) as usize], mesh.points()[mesh.tail(h as u32) as usize]);
+    let change = edge_changes(mesh, |h, g, e| {
         let (t1, k1, t2, kg) = (h / 3, h % 3, g / 3, g % 3);
         // The edge tail → head of h: corners k1 → k1 + 1 in T1, kg + 1 → kg in T2.
         let image1 = image_edge_angle(&param.coords[t1], k1, (k1 + 1) % 3);
@@ -230,9 +222,8 @@ fn cross_field_indices(mesh: &TriMesh, param: &CornerParameterization) -> Vec<f6
         let tau = (4 + param.rotation[t2][(kg + 1) % 3] - param.rotation[t1][k1]) % 4;
         let allowed = FRAC_PI_2 * tau as f64;
         let rotation = allowed + TAU * ((alpha2 - alpha1 - allowed) / TAU).round();
-        change[h] = d2 - d1 - rotation;
-        change[g] = -change[h];
-    }
+        d2 - d1 - rotation
+    });
     vertex_indices(mesh, &change)
 }
 
@@ -281,13 +272,9 @@ fn lift_near(x: f64, target: f64) -> f64 {
     target + wrap_angle(x - target)
 }
 
-/// Per half-edge h (with a twin g): the direction change crossing from h's triangle into g's,
-/// `reduce(h, g, a_g − transported a_h)`, antisymmetric (computed once per edge).
-fn edge_changes(
-    mesh: &TriMesh,
-    frames: &[(f64, [f64; 3], [f64; 3])],
-    reduce: impl Fn(usize, usize, f64) -> f64,
-) -> Vec<f64> {
+/// Per half-edge h with a twin g: `change_of(h, g, e)`, the change crossing from h's triangle
+/// into g's (e = head − tail of h), and its negative for g (computed once per edge).
+fn edge_changes(mesh: &TriMesh, change_of: impl Fn(usize, usize, [f64; 3]) -> f64) -> Vec<f64> {
     let twin = &mesh.connectivity().twin;
     let mut change = vec![0.0; twin.len()];
     for h in 0..twin.len() {
@@ -296,11 +283,7 @@ fn edge_changes(
             continue;
         }
         let e = sub(mesh.points()[mesh.head(h as u32) as usize], mesh.points()[mesh.tail(h as u32) as usize]);
-        let (a1, x1, y1) = frames[h / 3];
-        let (a2, x2, y2) = frames[g as usize / 3];
-        let psi1 = dot(e, y1).atan2(dot(e, x1));
-        let psi2 = dot(e, y2).atan2(dot(e, x2));
-        let d = reduce(h, g as usize, a2 - (a1 - psi1 + psi2));
+        let d = change_of(h, g as usize, e);
         change[h] = d;
         change[g as usize] = -d;
     }
@@ -313,7 +296,11 @@ fn edge_changes(
 /// vertices.
 pub fn face_field_indices(mesh: &TriMesh, directions: &[[f64; 3]], k: u32) -> Vec<f64> {
     let frames = face_angles(mesh, directions);
-    let change = edge_changes(mesh, &frames, |_, _, d| wrap_symmetric(d, k));
+    let change = edge_changes(mesh, |h, g, e| {
+        // The direction in g's triangle minus the one of h's, carried across e by unfolding.
+        let (from, to) = (&frames[h / 3], &frames[g / 3]);
+        wrap_symmetric(to.0 - (from.0 - edge_angle(from, e) + edge_angle(to, e)), k)
+    });
     vertex_indices(mesh, &change)
 }
 
