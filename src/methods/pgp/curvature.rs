@@ -91,6 +91,7 @@ pub fn principal_curvatures(mesh: &TriMesh, options: &CurvatureOptions) -> Resul
     check_neighbourhood(options.neighbourhood)?;
     let normals = vertex_normals(mesh);
     let dihedral = signed_dihedral_angles(mesh);
+    let area_normals = triangle_area_normals(mesh);
     let per_vertex: Vec<Estimate> = (0..mesh.vertex_count() as u32)
         .into_par_iter()
         .with_min_len(256)
@@ -100,7 +101,7 @@ pub fn principal_curvatures(mesh: &TriMesh, options: &CurvatureOptions) -> Resul
             }
             let region = region_triangles(mesh, v, options.neighbourhood);
             let tensor = normal_cycle_tensor(mesh, &dihedral, &region);
-            principal_frame(tensor, region_normal(mesh, &region, normals[v as usize]))
+            principal_frame(tensor, region_normal(&area_normals, &region, normals[v as usize]))
         })
         .collect();
     Ok(PrincipalCurvatures {
@@ -112,13 +113,23 @@ pub fn principal_curvatures(mesh: &TriMesh, options: &CurvatureOptions) -> Resul
     })
 }
 
+/// Twice the area times the unit normal of every triangle.
+fn triangle_area_normals(mesh: &TriMesh) -> Vec<[f64; 3]> {
+    mesh.triangles()
+        .iter()
+        .map(|tri| {
+            let p = tri.map(|w| mesh.points()[w as usize]);
+            cross(sub(p[1], p[0]), sub(p[2], p[0]))
+        })
+        .collect()
+}
+
 /// Unit area-weighted mean normal of the triangles of `region`; `fallback` (the one-ring
 /// normal) when they cancel.
-fn region_normal(mesh: &TriMesh, region: &[u32], fallback: [f64; 3]) -> [f64; 3] {
+fn region_normal(area_normals: &[[f64; 3]], region: &[u32], fallback: [f64; 3]) -> [f64; 3] {
     let mut sum = [0.0; 3];
     for &t in region {
-        let p = mesh.triangles()[t as usize].map(|w| mesh.points()[w as usize]);
-        let c = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+        let c = area_normals[t as usize];
         sum = std::array::from_fn(|a| sum[a] + c[a]);
     }
     let n = normalized(sum);
