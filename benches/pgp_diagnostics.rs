@@ -12,7 +12,10 @@
 //! EPS / IT penalty ε and iterations of the periodic Newton solve; SEPS / SIT the same for the
 //! smoothing; FIELDW=uniform|paper|CAP fitting weights (uniform, eq. 21's |kmax/kmin|, or the
 //! default anisotropy capped at CAP); PTS=1 local edge length and normal deviation at the
-//! singular points; OUT=1 the worst regular triangles by stretch.
+//! singular points; OUT=1 the worst regular triangles by stretch; PERIOD=p sets ω to one period
+//! per p mean edge lengths (default 10). It also prints the triangles around which the rotation
+//! matching of eq. 13 does not close (the field's singular triangles as the periodic solve
+//! sees them) and where the negative (θ, φ) triangles lie (needles, next to singular points).
 //! A measuring tool, not part of the library: it panics with a message on bad arguments.
 use std::path::Path;
 use uvflat::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
@@ -67,6 +70,9 @@ fn main() {
     }
     if let Ok(e) = std::env::var("IT") {
         opts.newton.max_iterations = e.parse().unwrap();
+    }
+    if let Ok(e) = std::env::var("PERIOD") {
+        opts.omega = Some(std::f64::consts::TAU / (e.parse::<f64>().unwrap() * l));
     }
     let start = std::time::Instant::now();
     let curv = principal_curvatures(&mesh, &opts.curvature).unwrap();
@@ -246,10 +252,68 @@ fn main() {
     let k = (terms.len() / 100).max(1);
     let trimmed = ((tot - terms.iter().take(k).sum::<f64>()) / a3).sqrt() / (a3 / auv).sqrt();
     println!("  stretch: top0.1% share {:.3} ; without top1% {:.3}; auv/a3 {:.3}", top, trimmed, auv / a3);
+    // Triangles around which the rotation matching of eq. 13 does not close (the field's
+    // singular triangles in the periodic solve's own terms).
+    use uvflat::methods::pgp::frames::match_rotation;
+    let unclosed = (0..mesh.triangle_count())
+        .filter(|&t| {
+            let tri = mesh.triangles()[t].map(|v| v as usize);
+            let m = |a: usize, b: usize| {
+                match_rotation(r.field[tri[a]], r.normals[tri[a]], r.normals[tri[b]], r.field[tri[b]]) as u32
+            };
+            (m(0, 1) + m(1, 2) + m(2, 0)) % 4 != 0
+        })
+        .count();
+    println!("  matching-singular triangles: {unclosed}");
+    {
+        // Negative triangles: needle (< 5°), touching a singular point, any corner |U| or |V| < 0.5, within 2 rings of a singular point.
+        let mut sp = vec![0u8; mesh.vertex_count()];
+        for p in s.singular_points() {
+            sp[p.0 as usize] = 1;
+        }
+        for _ in 0..2 {
+            let prev = sp.clone();
+            for t in mesh.triangles() {
+                if t.iter().any(|&v| prev[v as usize] > 0) {
+                    for &v in t {
+                        if sp[v as usize] == 0 {
+                            sp[v as usize] = 2;
+                        }
+                    }
+                }
+            }
+        }
+        let angles = mesh.corner_angles();
+        let (mut n, mut needle, mut touch, mut small, mut near) = (0, 0, 0, 0, 0);
+        for &t in &s.triangles {
+            let t = t as usize;
+            if r.param.open[t] || signed_area2(&r.param.coords[t]) > 0.0 {
+                continue;
+            }
+            n += 1;
+            let tri = mesh.triangles()[t];
+            if angles[t].iter().any(|&a| a < 5f64.to_radians()) {
+                needle += 1;
+            }
+            if tri.iter().any(|&v| sp[v as usize] == 1) {
+                touch += 1;
+            }
+            if tri.iter().any(|&v| sp[v as usize] > 0) {
+                near += 1;
+            }
+            if tri.iter().any(|&v| {
+                let x = r.unknowns[v as usize];
+                (x[0] * x[0] + x[1] * x[1]).sqrt() < 0.5 || (x[2] * x[2] + x[3] * x[3]).sqrt() < 0.5
+            }) {
+                small += 1;
+            }
+        }
+        println!("  negative triangles {n}: needle {needle} touch-singular-point {touch} within-2-rings {near} small-U {small}");
+    }
     let (rp, rn) = count(&raw);
     let (sp, sn) = count(&smooth);
     println!(
-        "{:<34} F={:>6} rawfield +{}/-{} smoothfield +{}/-{} param_pts {} (+{}/-{}) singT {:.2}% [open {} neg {} both {} tinyneg {}] |X|<.5 {} long>2.5l {:.4} stretch {:.3} shear {:.3} align {:.1} solve it {} conv {} g {:.1e} smooth it {:?} conv {:?} {:.1}s",
+        "{:<34} F={:>6} rawfield +{}/-{} smoothfield +{}/-{} param_pts {} (+{}/-{}) singT {:.2}% [open {} neg {} both {} tinyneg {}] |X|<.5 {} long>2.5l {:.4} stretch {:.3} shear {:.3} align {:.1} solve it {} clamped {} conv {} g {:.1e} smooth it {:?} conv {:?} {:.1}s",
         Path::new(file).file_name().unwrap().to_string_lossy(),
         mesh.triangle_count(),
         rp, rn, sp, sn,
@@ -257,7 +321,7 @@ fn main() {
         100.0 * q.singular_triangle_fraction,
         open, neg, both, tiny, small_u, long,
         q.stretch, q.shear, q.alignment_degrees,
-        r.solve.iterations, r.solve.converged, r.solve.final_gradient,
+        r.solve.iterations, r.solve.clamped_iterations, r.solve.converged, r.solve.final_gradient,
         r.smoothing.map(|s| s.iterations), r.smoothing.map(|s| s.converged),
         secs
     );

@@ -2,8 +2,10 @@
 # PGP quality and timing table (README, "Periodic Global Parameterization"): runs
 # `uvflat pgp --json` with and without --curl-correction on every closed mesh of ../shared/meshes
 # (or the meshes given as arguments) under /usr/bin/time, and prints a Markdown table of singular
-# triangles, singular points, Σ indices, stretch, shear, alignment and CPU seconds (user +
-# system). Set UVFLAT to use another CLI binary (default target/release/uvflat, built here).
+# triangles, singular points, Σ indices, stretch, shear, alignment, Newton iterations (* where
+# ‖∇F**‖ < 1e-6 was reached) and CPU seconds (user +
+# system). Set UVFLAT to use another CLI binary (default target/release/uvflat, built here) and
+# UVFLAT_PGP_ARGS to pass more options to every run (e.g. "--newton-iterations 100").
 # Example: scripts/pgp_quality.sh ../shared/meshes/disk_face_libigl_loop1.obj  (206,848 faces)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,7 +29,7 @@ for mesh in "${meshes[@]}"; do
         flag=()
         [ "$mode" = cc ] && flag=(--curl-correction)
         /usr/bin/time -f "%U %S %e" -o "$out/$name.$mode.time" \
-            "$cli" pgp "$mesh" -o "$out/$name.$mode.obj" "${flag[@]}" --json >"$out/$name.$mode.json"
+            "$cli" pgp "$mesh" -o "$out/$name.$mode.obj" "${flag[@]}" ${UVFLAT_PGP_ARGS:-} --json >"$out/$name.$mode.json"
         rm -f "$out/$name.$mode.obj"
     done
 done
@@ -41,14 +43,18 @@ def run(name, mode):
     user, system, wall = map(float, open(f"{out}/{name}.{mode}.time").read().split()[-3:])
     return j, user + system, wall
 print("| mesh | triangles | genus | Σ indices | singular triangles PGP / ccPGP | singular points PGP / ccPGP "
-      "| stretch PGP / ccPGP | shear PGP / ccPGP | alignment PGP / ccPGP | CPU s PGP / ccPGP | wall s PGP / ccPGP |")
-print("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
+      "| stretch PGP / ccPGP | shear PGP / ccPGP | alignment PGP / ccPGP | Newton iterations PGP / ccPGP "
+      "| CPU s PGP / ccPGP | wall s PGP / ccPGP |")
+print("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
 for mesh in meshes:
     name = os.path.basename(mesh)[:-4]
     (a, ca, wa), (b, cb, wb) = run(name, "pgp"), run(name, "cc")
     pct = lambda j: f"{100 * j['singular_triangle_fraction']:.2f}%"
+    # Iterations, with * where ‖∇F**‖ < 10⁻⁶ was reached.
+    newton = lambda j: f"{j['newton_iterations']}{'*' if j['converged'] else ''}"
     print(f"| {name.replace('closed_', '')} | {a['triangles']} | {a['genus']} | {round(a['index_sum']) + 0} "
           f"| {pct(a)} / {pct(b)} | {a['singular_points']} / {b['singular_points']} "
           f"| {a['stretch']:.3f} / {b['stretch']:.3f} | {a['shear']:.3f} / {b['shear']:.3f} "
-          f"| {a['alignment_degrees']:.1f}° / {b['alignment_degrees']:.1f}° | {ca:.2f} / {cb:.2f} | {wa:.2f} / {wb:.2f} |")
+          f"| {a['alignment_degrees']:.1f}° / {b['alignment_degrees']:.1f}° | {newton(a)} / {newton(b)} "
+          f"| {ca:.2f} / {cb:.2f} | {wa:.2f} / {wb:.2f} |")
 EOF
