@@ -19,9 +19,10 @@
 //!    `ε (4(‖u‖² − 1) I + 8 u uᵀ)` per pair, whose eigenvalues are ≥ −4ε. Where that makes the
 //!    system indefinite (pairs well inside the unit circle, near singularities) the step uses
 //!    the Hessian shifted by `μ · 4ε I` (Levenberg–Marquardt damping of the penalty part): μ
-//!    grows ×4 from [`MIN_SHIFT`] until the factorization succeeds — at μ = 1 the penalty part
-//!    is positive semidefinite, so it always does — and the next iteration starts from μ / 4,
-//!    back to the exact Hessian once μ < [`MIN_SHIFT`]. An earlier version clamped the negative
+//!    grows ×4 from 0.01 until the factorization succeeds — at μ = 1 the penalty part is
+//!    positive semidefinite, so it always does. The next iteration starts from the same μ, or
+//!    from μ / 4 when this one needed no increase, back to the exact Hessian below 0.01
+//!    (a failed factorization costs as much as a successful one). An earlier version clamped the negative
 //!    eigenvalues to zero per pair (the same as μ = 1 at the worst pairs) and tried the exact
 //!    Hessian only every fourth iteration; it converged linearly and left ‖∇F**‖ at 0.17 after
 //!    30 iterations on `closed_g0_spot`, where the damped steps reach 10⁻⁹ in 28.
@@ -291,13 +292,7 @@ pub fn minimize<const B: usize>(
             .report(progress_span.0 + span * (report.iterations + 1) as f64 / (options.max_iterations + 1) as f64)?;
         let (step, used) = newton_step(&pattern, &objective, &x, &gradient, shift)?;
         report.clamped_iterations += (used > 0.0) as usize;
-        // Relax the shift only after a step that needed no increase: one that did would most
-        // likely fail again at the lower value, and a failed factorization costs a full one.
-        if used == shift {
-            shift = if used / 4.0 < MIN_SHIFT { 0.0 } else { used / 4.0 };
-        } else {
-            shift = used;
-        }
+        shift = next_shift(shift, used);
         report.iterations += 1;
         match line_search(&objective, &x, energy, &gradient, &step) {
             Some((next, e)) => {
@@ -423,7 +418,20 @@ impl<const B: usize> Objective<'_, B> {
 }
 
 /// Smallest non-zero shift μ of the penalty Hessian (module comment).
-pub(crate) const MIN_SHIFT: f64 = 0.01;
+const MIN_SHIFT: f64 = 0.01;
+
+/// The shift the next Newton step starts from: relaxed ÷4 (to 0 below [`MIN_SHIFT`]) only after
+/// a step that needed no increase — one that did would most likely fail again at the lower
+/// value, and a failed factorization costs as much as a successful one.
+fn next_shift(started: f64, used: f64) -> f64 {
+    if used > started {
+        used
+    } else if used / 4.0 < MIN_SHIFT {
+        0.0
+    } else {
+        used / 4.0
+    }
+}
 
 /// Solves `(H + μ · 4ε I) step = −g` for the smallest μ in {`shift`, 4·`shift`, …} (starting at
 /// [`MIN_SHIFT`] after a zero shift fails) whose matrix factors and gives a descent direction;
@@ -435,9 +443,10 @@ fn newton_step<const B: usize>(
     gradient: &[[f64; B]],
     shift: f64,
 ) -> Result<(Vec<[f64; B]>, f64)> {
+    let penalty = objective.penalty_hessian(x);
     let mut mu = shift;
     loop {
-        let mut extra = objective.penalty_hessian(x);
+        let mut extra = penalty.clone();
         for h in extra.iter_mut() {
             for (r, row) in h.iter_mut().enumerate() {
                 row[r] += mu * 4.0 * objective.epsilon;
