@@ -7,8 +7,10 @@
 //!     cargo bench --bench pgp                         # disk_face_libigl_loop1 (207k faces)
 //!     cargo bench --bench pgp -- path/to/mesh.obj     # other meshes
 //!     UVFLAT_PGP_RUNS=1 cargo bench --bench pgp       # runs per mesh (default 3, median)
+//!     UVFLAT_PGP_NEWTON=100 cargo bench --bench pgp   # Newton iteration limit (default 10)
 //!
-//! Columns: wall seconds of `pgp` (everything up to the singularities), of the chart layout,
+//! Columns: the periodic solve's Newton iterations (* where ‖∇F**‖ < 10⁻⁶ was reached, last
+//! run), wall seconds of `pgp` (everything up to the singularities), of the chart layout,
 //! of the per-chart parameterization (one line per period), of the remesh (8 lines per
 //! period), their total, the number of charts, and the remesh's face count and quad share.
 //! The load average before and after is printed: the machine is shared.
@@ -45,18 +47,24 @@ fn main() {
         args.iter().map(PathBuf::from).collect()
     };
     let runs: usize = std::env::var("UVFLAT_PGP_RUNS").ok().and_then(|s| s.parse().ok()).unwrap_or(3).max(1);
+    let mut options = PgpOptions::default();
+    if let Some(limit) = std::env::var("UVFLAT_PGP_NEWTON").ok().and_then(|s| s.parse().ok()) {
+        options.newton.max_iterations = limit;
+    }
+    println!("Newton iteration limit: {}", options.newton.max_iterations);
     println!("load average before: {}", load_average());
     println!(
-        "| mesh | triangles | pgp s | chart layout s | charts s | remesh s | total s | charts | remesh faces | quads |"
+        "| mesh | triangles | Newton iterations | pgp s | chart layout s | charts s | remesh s | total s | charts | remesh faces | quads |"
     );
-    println!("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|");
+    println!("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|");
     for path in &meshes {
         let mesh = load(path);
         let (mut solve, mut layout, mut charts, mut remesh, mut total) = (vec![], vec![], vec![], vec![], vec![]);
-        let (mut faces, mut chart_count) = ((0, 0), 0);
+        let (mut faces, mut chart_count, mut newton) = ((0, 0), 0, (0, false));
         for _ in 0..runs {
             let start = Instant::now();
-            let r = pgp(&mesh, &PgpOptions::default(), &mut Progress::none()).expect("pgp");
+            let r = pgp(&mesh, &options, &mut Progress::none()).expect("pgp");
+            newton = (r.solve.iterations, r.solve.converged);
             let t1 = start.elapsed().as_secs_f64();
             let l = chart_layout(&mesh, &r).expect("chart layout");
             let t2 = start.elapsed().as_secs_f64();
@@ -75,8 +83,10 @@ fn main() {
         }
         let name = path.file_stem().map_or("?".into(), |s| s.to_string_lossy().into_owned());
         println!(
-            "| {name} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {chart_count} | {} | {:.1}% |",
+            "| {name} | {} | {}{} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {chart_count} | {} | {:.1}% |",
             mesh.triangle_count(),
+            newton.0,
+            if newton.1 { "*" } else { "" },
             median(solve),
             median(layout),
             median(charts),

@@ -727,4 +727,29 @@ mod tests {
             assert!((b[(i, 0)] - x_true[i]).norm() < 1e-10, "unknown {i}: {} vs {}", b[(i, 0)], x_true[i]);
         }
     }
+
+    #[test]
+    fn refactoring_into_earlier_storage_gives_the_factor_of_the_new_matrix() {
+        let (diagonal, lower, coords) = grid_matrix(31);
+        let first = lower_from_entries(&diagonal, lower.clone()).expect("matrix");
+        let pattern = CholeskyPattern::new(first.symbolic(), Some(&coords)).expect("analysis");
+        let mut solver = pattern.factor(&first).expect("factor");
+        // Same pattern, other values: twice the matrix plus the identity.
+        let second_diagonal: Vec<c64> = diagonal.iter().map(|d| *d * 2.0 + 1.0).collect();
+        let second_lower: Lower = lower.iter().map(|&(r, c, v)| (r, c, v * 2.0)).collect();
+        let second = lower_from_entries(&second_diagonal, second_lower).expect("matrix");
+        pattern.refactor(second.as_ref(), &mut solver).expect("refactor");
+        let fresh = pattern.factor(&second).expect("factor");
+        let n = diagonal.len();
+        let b = Mat::<c64>::from_fn(n, 1, |i, _| c64::new((i as f64 * 0.3).sin(), 0.2));
+        let (mut x, mut y) = (b.clone(), b.clone());
+        solver.solve_in_place(&mut x).expect("solve");
+        fresh.solve_in_place(&mut y).expect("solve");
+        for i in 0..n {
+            assert!((x[(i, 0)] - y[(i, 0)]).norm() < 1e-12, "unknown {i}");
+        }
+        // A solver of another pattern is refused.
+        let other = CholeskyPattern::new(first.symbolic(), None).expect("analysis");
+        assert!(other.refactor(second.as_ref(), &mut solver).is_err());
+    }
 }

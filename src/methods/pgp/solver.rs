@@ -32,15 +32,26 @@
 //! are computed once and reused by every factorization.
 //!
 //! Cost per Newton iteration: one numeric factorization of a (B·V)×(B·V) matrix (one more per
-//! rejected shift) and O(E·B²) for the assembly, the gradient and each line-search energy.
+//! rejected shift) and O(E·B²) for the assembly, the gradient and each line-search energy. All
+//! factorizations go into the storage of the first one ([`CholeskyPattern::refactor`]).
+//! Measured and not adopted (`benches/pgp_diagnostics.rs` on `closed_g0_armadillo`, 80
+//! iterations, 44 s for the Newton phase): conjugate gradients preconditioned by the previous
+//! iteration's factor (the Hessian changes most where the singular points move, so 5 iterations
+//! reached a relative residual of 0.1 on fewer than half of the steps: 48 s); Newton steps
+//! restricted to the vertices carrying 99% of ‖∇F**‖² plus 3 rings (105 iterations, 42 s, same
+//! result); a single-precision factor (only 11% faster: the factorization is bound by memory
+//! traffic, not flops); starting from a solve at ε/100 (41–57 iterations, erratic); relaxing μ
+//! more slowly (fewer rejected shifts, more iterations: 47–53 s); faer's dynamic pivot
+//! regularization instead of the shift (replacing non-positive pivots by a constant overflows
+//! on these indefinite systems).
 
 use super::frames::EdgeList;
 use crate::error::{Error, Result};
-use crate::linalg::{ordering, CholeskyPattern};
+use crate::linalg::{ordering, CholeskyPattern, CholeskySolver};
 use crate::mesh::NONE;
 use crate::progress::Progress;
 use crate::TriMesh;
-use faer::sparse::{SparseColMat, SymbolicSparseColMat};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::Mat;
 
 /// A B×B block.
@@ -190,9 +201,9 @@ pub const PERIODIC_EPSILON: f64 = 0.1;
 /// kitten 42, armadillo 80; nefertiti without curl correction needs more than 100; the paper
 /// needed ≤ 5 at its ε), while the singular triangles change by at most 0.5 points after 10
 /// (spot 1.26% at 10, 1.13% converged; kitten 0.90 / 0.81%). Each iteration is one or two
-/// factorizations: on the 207k-face disk of `benches/pgp.rs` the PGP step takes 33 s at 10
-/// iterations and 118 s converged, against the 60 s for the whole pipeline. Raise
-/// `max_iterations` (C: `max_newton_iterations`) to 100 to converge.
+/// factorizations: on the 207k-face disk of `benches/pgp.rs` the PGP step takes 24 s at 10
+/// iterations and 74 s converged (51 iterations), against the 60 s for the whole
+/// pipeline. Raise `max_iterations` (C: `max_newton_iterations`) to 100 to converge.
 pub const PERIODIC_ITERATIONS: usize = 10;
 
 /// Options of [`minimize`].
@@ -255,8 +266,9 @@ pub fn minimize<const B: usize>(
     progress.report(progress_span.0)?;
 
     // 1. The linear solve of F* with the locked blocks fixed.
-    let lower = pattern.matrix(system, &is_locked, 1.0, None)?;
-    let solver = pattern.analysis.factor(&lower)?;
+    let mut values = Vec::new();
+    pattern.matrix_values(system, &is_locked, 1.0, None, &mut values);
+    let solver = pattern.analysis.factor_ref(pattern.matrix(&values))?;
     let ax_locked = system.apply(&x);
     let mut rhs = Mat::<f64>::zeros(B * n, 1);
     for v in 0..n {
@@ -271,6 +283,7 @@ pub fn minimize<const B: usize>(
         }
     }
     crate::linalg::require_finite(x.iter().flatten().copied(), "periodic")?;
+    let mut workspace = NewtonWorkspace { values, factor: solver };
     if options.epsilon > 0.0 {
         project_on_unit_pairs(&mut x, &is_locked);
     }
@@ -290,7 +303,7 @@ pub fn minimize<const B: usize>(
         }
         progress
             .report(progress_span.0 + span * (report.iterations + 1) as f64 / (options.max_iterations + 1) as f64)?;
-        let (step, used) = newton_step(&pattern, &objective, &x, &gradient, shift)?;
+        let (step, used) = newton_step(&pattern, &objective, &x, &gradient, shift, &mut workspace)?;
         report.clamped_iterations += (used > 0.0) as usize;
         shift = next_shift(shift, used);
         report.iterations += 1;
@@ -442,6 +455,7 @@ fn newton_step<const B: usize>(
     x: &[[f64; B]],
     gradient: &[[f64; B]],
     shift: f64,
+    workspace: &mut NewtonWorkspace,
 ) -> Result<(Vec<[f64; B]>, f64)> {
     let penalty = objective.penalty_hessian(x);
     let mut mu = shift;
@@ -452,8 +466,8 @@ fn newton_step<const B: usize>(
                 row[r] += mu * 4.0 * objective.epsilon;
             }
         }
-        let h = pattern.matrix(objective.system, objective.locked, 2.0, Some(&extra))?;
-        if let Some(step) = descent_step(pattern, &h, gradient)? {
+        pattern.matrix_values(objective.system, objective.locked, 2.0, Some(&extra), &mut workspace.values);
+        if let Some(step) = descent_step(pattern, &workspace.values, gradient, &mut workspace.factor)? {
             return Ok((step, mu));
         }
         if mu >= 1.0 {
@@ -463,17 +477,26 @@ fn newton_step<const B: usize>(
     }
 }
 
-/// `−H⁻¹ g` when `H` factors and the result is a finite descent direction.
+/// Storage reused by every Newton step: the matrix values and the factor.
+struct NewtonWorkspace {
+    values: Vec<f64>,
+    factor: CholeskySolver<f64>,
+}
+
+/// `−H⁻¹ g` when `H` (the values of the pattern's matrix) factors (into `workspace`) and the
+/// result is a finite descent direction.
 fn descent_step<const B: usize>(
     pattern: &BlockPattern,
-    h: &SparseColMat<usize, f64>,
+    h: &[f64],
     gradient: &[[f64; B]],
+    workspace: &mut CholeskySolver<f64>,
 ) -> Result<Option<Vec<[f64; B]>>> {
-    let solver = match pattern.analysis.factor(h) {
-        Ok(s) => s,
+    match pattern.analysis.refactor(pattern.matrix(h), workspace) {
+        Ok(()) => {}
         Err(Error::Numerical(_)) => return Ok(None),
         Err(e) => return Err(e),
-    };
+    }
+    let solver = &*workspace;
     let n = gradient.len();
     let mut rhs = Mat::<f64>::from_fn(B * n, 1, |i, _| -gradient[i / B][i % B]);
     solver.solve_in_place(&mut rhs)?;
@@ -542,16 +565,18 @@ impl BlockPattern {
     }
 
     /// `scale · A + extra` (extra: per-block diagonal additions), with the rows and columns of
-    /// locked blocks replaced by the identity.
-    fn matrix<const B: usize>(
+    /// locked blocks replaced by the identity, as the values of [`Self::symbolic`] written into
+    /// `values` (whose storage is reused from call to call).
+    fn matrix_values<const B: usize>(
         &self,
         system: &BlockSystem<B>,
         locked: &[bool],
         scale: f64,
         extra: Option<&[Block<B>]>,
-    ) -> Result<SparseColMat<usize, f64>> {
+        values: &mut Vec<f64>,
+    ) {
         let n = system.blocks();
-        let mut values = Vec::with_capacity(self.symbolic.row_idx().len());
+        values.clear();
         for j in 0..n {
             for c in 0..B {
                 for r in c..B {
@@ -575,7 +600,11 @@ impl BlockPattern {
                 }
             }
         }
-        Ok(SparseColMat::new(self.symbolic.clone(), values))
+    }
+
+    /// The matrix of [`Self::symbolic`] with the given values.
+    fn matrix<'a>(&'a self, values: &'a [f64]) -> SparseColMatRef<'a, usize, f64> {
+        SparseColMatRef::new(self.symbolic.as_ref(), values)
     }
 }
 
