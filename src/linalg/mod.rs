@@ -209,7 +209,7 @@ impl CholeskyPattern {
         if self.symbolic.nrows() > 0 {
             multifrontal::factorize(&self.symbolic, lower, &mut values)?;
         }
-        Ok(CholeskySolver { symbolic: Arc::clone(&self.symbolic), values })
+        Ok(CholeskySolver { symbolic: Arc::clone(&self.symbolic), values, spare: Vec::new() })
     }
 
     /// [`Self::factor`] into the storage of an earlier factorization of this pattern (a Newton
@@ -226,7 +226,7 @@ impl CholeskyPattern {
         }
         if self.symbolic.nrows() > 0 {
             // Every supernode's block is cleared before it is assembled.
-            multifrontal::factorize(&self.symbolic, lower, &mut solver.values)?;
+            multifrontal::factorize_reusing(&self.symbolic, lower, &mut solver.values, &mut solver.spare)?;
         }
         Ok(())
     }
@@ -237,6 +237,9 @@ impl CholeskyPattern {
 pub struct CholeskySolver<T> {
     symbolic: Arc<SymbolicCholesky<usize>>,
     values: Vec<T>,
+    /// Front buffers kept by [`CholeskyPattern::refactor`] for the next refactorization
+    /// (empty after [`CholeskyPattern::factor`]).
+    spare: Vec<Vec<T>>,
 }
 
 impl<T: ComplexField + Copy + Send + Sync + Scalar> CholeskySolver<T> {

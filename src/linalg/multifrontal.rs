@@ -48,9 +48,21 @@ pub fn factorize<T: ComplexField + Copy + Send + Sync>(
     lower: SparseColMatRef<'_, usize, T>,
     values: &mut [T],
 ) -> Result<()> {
+    factorize_reusing(symbolic, lower, values, &mut Vec::new())
+}
+
+/// [`factorize`], taking update-matrix buffers from `spare` (left by an earlier factorization)
+/// before allocating, and leaving the largest ones there for the next: a Newton loop
+/// refactoring one pattern then maps and zero-fills its large fronts' memory once.
+pub fn factorize_reusing<T: ComplexField + Copy + Send + Sync>(
+    symbolic: &SymbolicCholesky<usize>,
+    lower: SparseColMatRef<'_, usize, T>,
+    values: &mut [T],
+    spare: &mut Vec<Vec<T>>,
+) -> Result<()> {
     let inverse = symbolic.perm().map(|p| p.arrays().1);
     let a = PermutedLower::new(lower, inverse);
-    run(symbolic, Entries::Hermitian(&a), values)
+    run_with(symbolic, Entries::Hermitian(&a), values, symbolic.nrows(), spare).map(|_| ())
 }
 
 /// What the fronts are assembled from: the lower triangle of a Hermitian matrix, or the two
@@ -91,6 +103,17 @@ pub(crate) fn run_split<T: ComplexField + Copy + Send + Sync>(
     values: &mut [T],
     split: usize,
 ) -> Result<Vec<T>> {
+    run_with(symbolic, entries, values, split, &mut Vec::new())
+}
+
+/// [`run_split`] with update-matrix buffers taken from and left in `spare`.
+fn run_with<T: ComplexField + Copy + Send + Sync>(
+    symbolic: &SymbolicCholesky<usize>,
+    entries: Entries<'_, T>,
+    values: &mut [T],
+    split: usize,
+    spare: &mut Vec<Vec<T>>,
+) -> Result<Vec<T>> {
     let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
         return Err(Error::Internal("the multifrontal factorization needs a supernodal symbolic analysis".into()));
     };
@@ -122,6 +145,7 @@ pub(crate) fn run_split<T: ComplexField + Copy + Send + Sync>(
         error: Mutex::new(None),
         split,
         schur: Mutex::new(vec![T::zero_impl(); (sn.nrows() - split.min(sn.nrows())).pow(2)]),
+        spare: Mutex::new(std::mem::take(spare)),
     };
     let tasks = tree.task_roots(tree.total_work() * TASK_FRACTION);
     rayon::scope(|scope| {
@@ -130,6 +154,9 @@ pub(crate) fn run_split<T: ComplexField + Copy + Send + Sync>(
             scope.spawn(move |_| run_task(root, cx));
         }
     });
+    *spare = cx.spare.into_inner().unwrap_or_else(|e| e.into_inner());
+    spare.sort_unstable_by_key(|b| std::cmp::Reverse(b.capacity()));
+    spare.truncate(SPARE_KEEP);
     match cx.error.into_inner().unwrap_or_else(|e| e.into_inner()) {
         Some(e) => Err(e),
         None => Ok(cx.schur.into_inner().unwrap_or_else(|e| e.into_inner())),
@@ -153,6 +180,8 @@ struct Context<'a, T> {
     split: usize,
     /// Dense Schur complement of the columns `split..n` (column-major, lower triangle).
     schur: Mutex<Vec<T>>,
+    /// Update-matrix buffers no task holds, shared by all (see [`Pool`]).
+    spare: Mutex<Vec<Vec<T>>>,
 }
 
 fn lock<U>(m: &Mutex<U>) -> std::sync::MutexGuard<'_, U> {
@@ -174,6 +203,7 @@ fn run_task<T: ComplexField + Copy + Send + Sync>(root: u32, cx: &Context<'_, T>
             s = p;
         }
     });
+    lock(&cx.spare).append(&mut pool.free);
     if let Err(e) = result {
         cx.failed.store(true, Ordering::Relaxed);
         lock(&cx.error).get_or_insert(e);
@@ -205,7 +235,11 @@ fn factor_subtree<T: ComplexField + Copy + Send + Sync>(
     Ok(())
 }
 
-/// Update-matrix buffers of a task, reused so that their memory stays mapped and cached.
+/// Buffers left for the next factorization (the largest ones).
+const SPARE_KEEP: usize = 32;
+
+/// Update-matrix buffers of a task, reused so that their memory stays mapped and cached; when
+/// none is large enough, the factorization's shared spare buffers are tried before allocating.
 struct Pool<T> {
     free: Vec<Vec<T>>,
 }
@@ -220,12 +254,18 @@ impl<T: ComplexField + Copy> Pool<T> {
     /// Buffers kept for reuse.
     const KEEP: usize = 16;
 
-    /// A zeroed buffer of `len` entries.
-    fn take(&mut self, len: usize) -> Vec<T> {
-        let mut buffer = match self.free.iter().position(|b| b.capacity() >= len) {
-            Some(k) => self.free.swap_remove(k),
-            None => self.free.pop().unwrap_or_default(),
-        };
+    /// A zeroed buffer of `len` entries: a local one, else the smallest large enough of
+    /// `shared`, else a new one.
+    fn take(&mut self, len: usize, shared: &Mutex<Vec<Vec<T>>>) -> Vec<T> {
+        let local = self.free.iter().position(|b| b.capacity() >= len).map(|k| self.free.swap_remove(k));
+        let mut buffer = local
+            .or_else(|| {
+                let mut shared = lock(shared);
+                let k =
+                    (0..shared.len()).filter(|&k| shared[k].capacity() >= len).min_by_key(|&k| shared[k].capacity())?;
+                Some(shared.swap_remove(k))
+            })
+            .unwrap_or_else(|| self.free.pop().unwrap_or_default());
         buffer.clear();
         buffer.resize(len, T::zero_impl());
         buffer
@@ -259,7 +299,7 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(
         return Err(Error::Internal(format!("supernode {s} factored twice")));
     };
     block.fill(T::zero_impl());
-    let mut update = pool.take(m * m);
+    let mut update = pool.take(m * m, &cx.spare);
     let par = if ld * w >= PARALLEL_FRONT { faer::get_global_parallelism() } else { Par::Seq };
     let children = cx.tree.children(s).iter().filter_map(|&c| lock(&cx.updates[c as usize]).take().map(|u| (c, u)));
     match cx.entries {

@@ -33,7 +33,8 @@
 //!
 //! Cost per Newton iteration: one numeric factorization of a (B·V)×(B·V) matrix (one more per
 //! rejected shift) and O(E·B²) for the assembly, the gradient and each line-search energy. All
-//! factorizations go into the storage of the first one ([`CholeskyPattern::refactor`]).
+//! factorizations go into the storage of the first one ([`CholeskyPattern::refactor`], which
+//! also keeps the large fronts' buffers between factorizations).
 //! Measured and not adopted (`benches/pgp_diagnostics.rs` on `closed_g0_armadillo`, 80
 //! iterations, 44 s for the Newton phase): conjugate gradients preconditioned by the previous
 //! iteration's factor (the Hessian changes most where the singular points move, so 5 iterations
