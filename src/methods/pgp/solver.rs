@@ -44,7 +44,14 @@
 //! traffic, not flops); starting from a solve at ε/100 (41–57 iterations, erratic); relaxing μ
 //! more slowly (fewer rejected shifts, more iterations: 47–53 s); faer's dynamic pivot
 //! regularization instead of the shift (replacing non-positive pivots by a constant overflows
-//! on these indefinite systems).
+//! on these indefinite systems); a modified Cholesky that, instead of rejecting the whole
+//! factorization, shifts only the pivot block of the front that fails (τ = 2·max(−θ, 0) + δ
+//! from a Lanczos estimate θ of its smallest eigenvalue), with μ = 0 throughout: no rejected
+//! factorization any more, but the shifts (up to 45 on those blocks, whose Schur complements
+//! are far more indefinite than H) gave poor directions (line-search steps of 1/128 and less),
+//! so the iterations went 80 → 49 on armadillo (28.5 → 15.5 s) but 42 → 56 on kitten (24.9 →
+//! 32.6 s) and 51 → 57 on the 207k-face disk (68.2 → 67.0 s); keeping the μ schedule and
+//! shifting the front instead of retrying was no better (54 / 67 / 58 iterations).
 
 use super::frames::EdgeList;
 use crate::error::{Error, Result};
@@ -202,8 +209,8 @@ pub const PERIODIC_EPSILON: f64 = 0.1;
 /// kitten 42, armadillo 80; nefertiti without curl correction needs more than 100; the paper
 /// needed ≤ 5 at its ε), while the singular triangles change by at most 0.5 points after 10
 /// (spot 1.26% at 10, 1.13% converged; kitten 0.90 / 0.81%). Each iteration is one or two
-/// factorizations: on the 207k-face disk of `benches/pgp.rs` the PGP step takes 24 s at 10
-/// iterations and 74 s converged (51 iterations), against the 60 s for the whole
+/// factorizations: on the 207k-face disk of `benches/pgp.rs` the PGP step takes 21–25 s at 10
+/// iterations and 62–69 s converged (51 iterations), against the 60 s for the whole
 /// pipeline. Raise `max_iterations` (C: `max_newton_iterations`) to 100 to converge.
 pub const PERIODIC_ITERATIONS: usize = 10;
 
