@@ -4,6 +4,7 @@
 //! positive-definite systems, and sparse LU for the others. A factorization is an object, so a
 //! method that solves several times factors once.
 
+pub mod front_assembly;
 pub mod frontal_lu;
 pub mod lagrange;
 pub mod multifrontal;
@@ -25,7 +26,7 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::traits::ComplexField;
 use faer::{Conj, Mat, Par, Side};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 use supernodal_solve::Scalar;
 
 /// Accumulates matrix entries; repeated (row, col) entries are summed.
@@ -145,6 +146,10 @@ pub fn lower_from_entries<T: ComplexField + Copy>(
 /// method that factors several matrices with one pattern computes it once.
 pub struct CholeskyPattern {
     symbolic: Arc<SymbolicCholesky<usize>>,
+    /// The analysed lower-triangle pattern, for matrices given by their values alone.
+    lower: SymbolicSparseColMat<usize>,
+    /// Front position of each entry of `lower`, built by the first factorization from values.
+    assembly: OnceLock<front_assembly::FrontAssembly>,
 }
 
 impl CholeskyPattern {
@@ -181,7 +186,17 @@ impl CholeskyPattern {
             None => factorize_symbolic_cholesky(lower, Side::Lower, SymmetricOrdering::Amd, supernodal()),
         }
         .map_err(|e| Error::Internal(format!("symbolic Cholesky failed: {e:?}")))?;
-        Ok(CholeskyPattern { symbolic: Arc::new(symbolic) })
+        Ok(CholeskyPattern {
+            symbolic: Arc::new(symbolic),
+            lower: lower.to_owned().map_err(|_| Error::Internal("out of memory for the matrix pattern".into()))?,
+            assembly: OnceLock::new(),
+        })
+    }
+
+    /// The analysed lower-triangle pattern: [`Self::factor_values`] and
+    /// [`Self::refactor_values`] take values in its storage order.
+    pub fn lower(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.lower.as_ref()
     }
 
     /// Number of stored entries of the factor L (including the zeros supernodes carry).
@@ -210,6 +225,36 @@ impl CholeskyPattern {
             multifrontal::factorize(&self.symbolic, lower, &mut values)?;
         }
         Ok(CholeskySolver { symbolic: Arc::clone(&self.symbolic), values, spare: Vec::new() })
+    }
+
+    /// [`Self::factor`] of the matrix with the pattern [`Self::lower`] and the given values.
+    pub fn factor_values<T: ComplexField + Copy + Send + Sync>(&self, values: &[T]) -> Result<CholeskySolver<T>> {
+        let mut solver = CholeskySolver {
+            symbolic: Arc::clone(&self.symbolic),
+            values: try_zeroed_vec::<T>(self.symbolic.len_val())?,
+            spare: Vec::new(),
+        };
+        self.refactor_values(values, &mut solver)?;
+        Ok(solver)
+    }
+
+    /// [`Self::refactor`] of the matrix with the pattern [`Self::lower`] and the given values.
+    /// Each entry goes straight to its place in the fronts ([`front_assembly`], built on the
+    /// first call): no permuted copy of the matrix is made.
+    pub fn refactor_values<T: ComplexField + Copy + Send + Sync>(
+        &self,
+        values: &[T],
+        solver: &mut CholeskySolver<T>,
+    ) -> Result<()> {
+        if !Arc::ptr_eq(&self.symbolic, &solver.symbolic) {
+            return Err(Error::Internal("refactor: the solver belongs to another pattern".into()));
+        }
+        let Some(sn) = supernodal_for_solve(&self.symbolic, self.symbolic.nrows(), "the Cholesky analysis")? else {
+            return Ok(()); // an empty system: nothing to factor
+        };
+        let inverse = self.symbolic.perm().map(|p| p.arrays().1);
+        let map = self.assembly.get_or_init(|| front_assembly::FrontAssembly::new(self.lower.as_ref(), inverse, sn));
+        multifrontal::factorize_mapped(&self.symbolic, map, values, &mut solver.values, &mut solver.spare)
     }
 
     /// [`Self::factor`] into the storage of an earlier factorization of this pattern (a Newton

@@ -19,6 +19,7 @@
 //! remaining ones ([`super::split_hermitian`] factors that block in complex arithmetic).
 //! Cost: the factorization's flops, plus O(Σ_s |P_s|²) memory traffic for the extend-adds.
 
+use super::front_assembly::FrontAssembly;
 use super::frontal_lu;
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -65,10 +66,31 @@ pub fn factorize_reusing<T: ComplexField + Copy + Send + Sync>(
     run_with(symbolic, Entries::Hermitian(&a), values, symbolic.nrows(), spare).map(|_| ())
 }
 
-/// What the fronts are assembled from: the lower triangle of a Hermitian matrix, or the two
-/// triangles of a matrix with a symmetric pattern (the upper one transposed), for LU.
+/// [`factorize_reusing`] of the matrix whose lower triangle has the values `lower_values` in
+/// the pattern `map` was built for: the entries go straight to their front positions.
+pub fn factorize_mapped<T: ComplexField + Copy + Send + Sync>(
+    symbolic: &SymbolicCholesky<usize>,
+    map: &FrontAssembly,
+    lower_values: &[T],
+    values: &mut [T],
+    spare: &mut Vec<Vec<T>>,
+) -> Result<()> {
+    if lower_values.len() != map.values_len() {
+        return Err(Error::Internal(format!(
+            "{} matrix values given for a pattern of {}",
+            lower_values.len(),
+            map.values_len()
+        )));
+    }
+    run_with(symbolic, Entries::Mapped(map, lower_values), values, symbolic.nrows(), spare).map(|_| ())
+}
+
+/// What the fronts are assembled from: the lower triangle of a Hermitian matrix (permuted, or
+/// its values with their front positions), or the two triangles of a matrix with a symmetric
+/// pattern (the upper one transposed), for LU.
 pub(crate) enum Entries<'a, T> {
     Hermitian(&'a PermutedLower<T>),
+    Mapped(&'a FrontAssembly, &'a [T]),
     Lu { lower: &'a PermutedLower<T>, upper_t: &'a PermutedLower<T> },
 }
 
@@ -76,7 +98,7 @@ impl<T> Entries<'_, T> {
     /// Values stored per entry of the symbolic factor: L, or L and Uᵀ.
     fn blocks(&self) -> usize {
         match self {
-            Entries::Hermitian(_) => 1,
+            Entries::Hermitian(_) | Entries::Mapped(..) => 1,
             Entries::Lu { .. } => 2,
         }
     }
@@ -303,8 +325,12 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(
     let par = if ld * w >= PARALLEL_FRONT { faer::get_global_parallelism() } else { Par::Seq };
     let children = cx.tree.children(s).iter().filter_map(|&c| lock(&cx.updates[c as usize]).take().map(|u| (c, u)));
     match cx.entries {
-        Entries::Hermitian(a) => {
-            assemble_columns(block, ld, f, f + eliminated, l, pattern, a);
+        Entries::Hermitian(a) => assemble_columns(block, ld, f, f + eliminated, l, pattern, a),
+        Entries::Mapped(map, values) => map.assemble(block, ld, f, f + eliminated, values),
+        Entries::Lu { .. } => {} // both triangles are assembled below
+    }
+    match cx.entries {
+        Entries::Hermitian(_) | Entries::Mapped(..) => {
             for (c, child) in children {
                 extend_add(block, &mut update, ld, f, l, pattern, &child, cx.sn.supernode(c as usize).pattern());
                 pool.give(child);
@@ -792,6 +818,34 @@ mod tests {
         for i in 0..n {
             assert!((b[(i, 0)] - x_true[i]).norm() < 1e-10, "unknown {i}: {} vs {}", b[(i, 0)], x_true[i]);
         }
+    }
+
+    #[test]
+    fn factoring_from_values_solves_the_hermitian_system() {
+        let (diagonal, lower, coords) = grid_matrix(23);
+        // Imaginary parts on every edge, so that the entries the permutation moves above the
+        // diagonal (read conjugated) matter; the larger diagonal keeps the matrix definite.
+        let diagonal: Vec<c64> = diagonal.iter().map(|d| *d + 2.0).collect();
+        let lower: Lower =
+            lower.iter().map(|&(r, c, v)| (r, c, v + c64::new(0.0, 0.2 * ((r + 2 * c) % 5) as f64 - 0.4))).collect();
+        let matrix = lower_from_entries(&diagonal, lower.clone()).expect("matrix");
+        let pattern = CholeskyPattern::new(matrix.symbolic(), Some(&coords)).expect("analysis");
+        let solver = pattern.factor_values(matrix.val()).expect("factor");
+        let n = diagonal.len();
+        let b = Mat::<c64>::from_fn(n, 1, |i, _| c64::new((i as f64 * 0.7).cos(), (i as f64 * 0.3).sin()));
+        let mut x = b.clone();
+        solver.solve_in_place(&mut x).expect("solve");
+        let mut ax: Vec<c64> = (0..n).map(|i| diagonal[i] * x[(i, 0)]).collect();
+        for &(r, c, v) in &lower {
+            ax[r as usize] += v * x[(c as usize, 0)];
+            ax[c as usize] += v.conj() * x[(r as usize, 0)];
+        }
+        for i in 0..n {
+            assert!((ax[i] - b[(i, 0)]).norm() < 1e-12, "row {i}: {} vs {}", ax[i], b[(i, 0)]);
+        }
+        // Values of another length are refused.
+        let mut refactored = solver;
+        assert!(pattern.refactor_values(&matrix.val()[1..], &mut refactored).is_err());
     }
 
     #[test]

@@ -59,7 +59,7 @@ use crate::linalg::{ordering, CholeskyPattern, CholeskySolver};
 use crate::mesh::NONE;
 use crate::progress::Progress;
 use crate::TriMesh;
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::sparse::SymbolicSparseColMat;
 use faer::Mat;
 
 /// A B×B block.
@@ -276,7 +276,7 @@ pub fn minimize<const B: usize>(
     // 1. The linear solve of F* with the locked blocks fixed.
     let mut values = Vec::new();
     pattern.matrix_values(system, &is_locked, 1.0, None, &mut values);
-    let solver = pattern.analysis.factor_ref(pattern.matrix(&values))?;
+    let solver = pattern.analysis.factor_values(&values)?;
     let ax_locked = system.apply(&x);
     let mut rhs = Mat::<f64>::zeros(B * n, 1);
     for v in 0..n {
@@ -499,7 +499,7 @@ fn descent_step<const B: usize>(
     gradient: &[[f64; B]],
     workspace: &mut CholeskySolver<f64>,
 ) -> Result<Option<Vec<[f64; B]>>> {
-    match pattern.analysis.refactor(pattern.matrix(h), workspace) {
+    match pattern.analysis.refactor_values(h, workspace) {
         Ok(()) => {}
         Err(Error::Numerical(_)) => return Ok(None),
         Err(e) => return Err(e),
@@ -555,9 +555,9 @@ fn line_search<const B: usize>(
     None
 }
 
-/// The lower-triangular scalar pattern of a [`BlockSystem`] and its symbolic factorization.
+/// The lower-triangular scalar pattern of a [`BlockSystem`] and its symbolic factorization
+/// (which keeps the pattern: matrices are given by their values in its storage order).
 struct BlockPattern {
-    symbolic: SymbolicSparseColMat<usize>,
     /// For each block column: the edges whose lower block sits in it, sorted by row block.
     column_edges: Vec<Vec<u32>>,
     analysis: CholeskyPattern,
@@ -589,11 +589,11 @@ impl BlockPattern {
         let symbolic = SymbolicSparseColMat::new_checked(B * n, B * n, col_ptr, None, row_idx);
         let order = block_order::<B>(system, coords);
         let analysis = CholeskyPattern::with_order(symbolic.as_ref(), Some(order))?;
-        Ok(BlockPattern { symbolic, column_edges, analysis })
+        Ok(BlockPattern { column_edges, analysis })
     }
 
     /// `scale · A + extra` (extra: per-block diagonal additions), with the rows and columns of
-    /// locked blocks replaced by the identity, as the values of [`Self::symbolic`] written into
+    /// locked blocks replaced by the identity, as the values of the analysed pattern written into
     /// `values` (whose storage is reused from call to call).
     fn matrix_values<const B: usize>(
         &self,
@@ -628,11 +628,6 @@ impl BlockPattern {
                 }
             }
         }
-    }
-
-    /// The matrix of [`Self::symbolic`] with the given values.
-    fn matrix<'a>(&'a self, values: &'a [f64]) -> SparseColMatRef<'a, usize, f64> {
-        SparseColMatRef::new(self.symbolic.as_ref(), values)
     }
 }
 
