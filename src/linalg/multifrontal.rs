@@ -211,14 +211,20 @@ fn lock<U>(m: &Mutex<U>) -> std::sync::MutexGuard<'_, U> {
 }
 
 /// Factors the subtree of `root` in postorder, then climbs towards the root as long as this
-/// task finished the last child of the parent.
+/// task finished the last child of the parent. Once any task has failed (a non-positive
+/// pivot), no further front is factored: the ancestors of a skipped front would be assembled
+/// without its update, and a rejected factorization (a Newton step retrying with a larger
+/// shift) then costs only the work done before the failure.
 fn run_task<T: ComplexField + Copy + Send + Sync>(root: u32, cx: &Context<'_, T>) {
     let mut pool = Pool::default();
     let result = factor_subtree(root, cx, &mut pool).and_then(|()| {
         let mut s = root;
         loop {
             let p = cx.tree.parent[s as usize];
-            if p == NONE || cx.pending[p as usize].fetch_sub(1, Ordering::AcqRel) != 1 {
+            if p == NONE
+                || cx.pending[p as usize].fetch_sub(1, Ordering::AcqRel) != 1
+                || cx.failed.load(Ordering::Relaxed)
+            {
                 return Ok(());
             }
             factor_supernode(p, cx, &mut pool)?;
@@ -756,6 +762,7 @@ impl SupernodeTree {
 mod tests {
     use super::consecutive_run_ends;
     use crate::linalg::{lower_from_entries, CholeskyPattern};
+    use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
     use faer::{c64, Mat};
 
     /// Hermitian positive-definite matrix on a `k × k` grid graph: a shifted Laplacian plus
@@ -817,6 +824,35 @@ mod tests {
         solver.solve_in_place(&mut b).expect("solve");
         for i in 0..n {
             assert!((b[(i, 0)] - x_true[i]).norm() < 1e-10, "unknown {i}: {} vs {}", b[(i, 0)], x_true[i]);
+        }
+    }
+
+    #[test]
+    fn no_front_is_factored_after_a_failure_whose_children_were_skipped() {
+        // Negative pivots spread over the grid: every task meets one, so after the first
+        // failure the other tasks skip their subtrees. One thread makes the order fixed.
+        let (mut diagonal, lower, coords) = grid_matrix(63);
+        for (i, d) in diagonal.iter_mut().enumerate() {
+            if i % 97 == 0 {
+                *d = c64::new(-1.0, 0.0);
+            }
+        }
+        let matrix = lower_from_entries(&diagonal, lower).expect("matrix");
+        let pattern = CholeskyPattern::new(matrix.symbolic(), Some(&coords)).expect("analysis");
+        let SymbolicCholeskyRaw::Supernodal(sn) = pattern.symbolic.raw() else { panic!("not supernodal") };
+        let mut values = vec![c64::new(f64::NAN, 0.0); pattern.factor_len()];
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("thread pool");
+        let result = pool.install(|| super::factorize(&pattern.symbolic, matrix.as_ref(), &mut values));
+        assert!(result.is_err(), "the matrix is indefinite");
+        // A front that was started has its block cleared first, so its first entry is a number.
+        let started = |s: usize| !values[sn.col_ptr_for_val()[s]].re.is_nan();
+        let tree = super::SupernodeTree::new(sn);
+        let count = (0..tree.len()).filter(|&s| started(s)).count();
+        assert!(count > 0 && count < tree.len(), "{count} of {} fronts started", tree.len());
+        for s in 0..tree.len() {
+            for &c in tree.children(s as u32) {
+                assert!(!started(s) || started(c as usize), "front {s} was factored without its child {c}");
+            }
         }
     }
 
