@@ -333,9 +333,10 @@
  * kitten 42, armadillo 80; nefertiti without curl correction needs more than 100; the paper
  * needed ≤ 5 at its ε), while the singular triangles change by at most 0.5 points after 10
  * (spot 1.26% at 10, 1.13% converged; kitten 0.90 / 0.81%). Each iteration is one or two
- * factorizations: on the 207k-face disk of `benches/pgp.rs` the PGP step takes 21–25 s at 10
- * iterations and 62–69 s converged (51 iterations), against the issue's 60 s for the whole
- * pipeline. Raise `max_iterations` (C: `max_newton_iterations`) to 100 to converge.
+ * factorizations: on the 207k-face disk of `benches/pgp.rs` the PGP step takes 19–20 s at 10
+ * iterations and 57–65 s converged (51 iterations) on this shared 2-core machine (52–55 s when
+ * it is quiet), against the issue's 60 s for the whole pipeline. Raise `max_iterations`
+ * (C: `max_newton_iterations`) to 100 to converge.
  */
 #define PERIODIC_ITERATIONS 10
 

@@ -73,12 +73,12 @@ impl FrontAssembly {
         let mut row = vec![0usize; total];
         let mut source = vec![0usize; total];
         let col_ptr = lower.col_ptr();
-        for j in 0..n {
+        for (j, &column_start) in col_ptr[..n].iter().enumerate() {
             for (offset, &i) in lower.row_idx_of_col_raw(j).iter().enumerate() {
                 if let Some((r, c, conj)) = place(i, j) {
                     let k = &mut fill[2 * c + conj as usize];
                     row[*k] = r;
-                    source[*k] = col_ptr[j] + offset;
+                    source[*k] = column_start + offset;
                     *k += 1;
                 }
             }

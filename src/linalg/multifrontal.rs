@@ -282,9 +282,9 @@ impl<T: ComplexField + Copy> Pool<T> {
     /// Buffers kept for reuse.
     const KEEP: usize = 16;
 
-    /// A zeroed buffer of `len` entries: a local one, else the smallest large enough of
-    /// `shared`, else a new one.
-    fn take(&mut self, len: usize, shared: &Mutex<Vec<Vec<T>>>) -> Vec<T> {
+    /// A buffer of `len` entries (zeroed if `zeroed`, else holding anything): a local one,
+    /// else the smallest large enough of `shared`, else a new one.
+    fn take(&mut self, len: usize, shared: &Mutex<Vec<Vec<T>>>, zeroed: bool) -> Vec<T> {
         let local = self.free.iter().position(|b| b.capacity() >= len).map(|k| self.free.swap_remove(k));
         let mut buffer = local
             .or_else(|| {
@@ -294,7 +294,9 @@ impl<T: ComplexField + Copy> Pool<T> {
                 Some(shared.swap_remove(k))
             })
             .unwrap_or_else(|| self.free.pop().unwrap_or_default());
-        buffer.clear();
+        if zeroed {
+            buffer.clear();
+        }
         buffer.resize(len, T::zero_impl());
         buffer
     }
@@ -327,7 +329,9 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(
         return Err(Error::Internal(format!("supernode {s} factored twice")));
     };
     block.fill(T::zero_impl());
-    let mut update = pool.take(m * m, &cx.spare);
+    let hermitian = !matches!(cx.entries, Entries::Lu { .. });
+    // The Hermitian update matrix is overwritten before the children's parts are added to it.
+    let mut update = pool.take(m * m, &cx.spare, !hermitian);
     let par = if ld * w >= PARALLEL_FRONT { faer::get_global_parallelism() } else { Par::Seq };
     let children = cx.tree.children(s).iter().filter_map(|&c| lock(&cx.updates[c as usize]).take().map(|u| (c, u)));
     match cx.entries {
@@ -337,9 +341,13 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(
     }
     match cx.entries {
         Entries::Hermitian(_) | Entries::Mapped(..) => {
-            for (c, child) in children {
-                extend_add(block, &mut update, ld, f, l, pattern, &child, cx.sn.supernode(c as usize).pattern());
-                pool.give(child);
+            let children: Vec<(u32, Vec<T>)> = children.collect();
+            let positions: Vec<Vec<usize>> = children
+                .iter()
+                .map(|&(c, _)| front_positions(f, l, pattern, cx.sn.supernode(c as usize).pattern()))
+                .collect();
+            for ((_, child), position) in children.iter().zip(&positions) {
+                extend_add(block, &mut update, ld, w, child, position, ..w);
             }
             partial_cholesky(block, &mut update, eliminated, w, m, par).map_err(|index| {
                 Error::Numerical(format!(
@@ -348,6 +356,10 @@ fn factor_supernode<T: ComplexField + Copy + Send + Sync>(
                     sn.nrows()
                 ))
             })?;
+            for ((_, child), position) in children.into_iter().zip(&positions) {
+                extend_add(block, &mut update, ld, w, &child, position, w..);
+                pool.give(child);
+            }
         }
         Entries::Lu { lower, upper_t } => {
             let (l_block, u_block) = block.split_at_mut(ld * w);
@@ -455,31 +467,33 @@ pub(crate) fn front_positions(f: usize, l: usize, pattern: &[usize], child_patte
     position
 }
 
-/// Adds a child's update matrix (rows `child_pattern`) into the front of supernode `f..l`
-/// (rows `f..l` then `pattern`): columns that fall in `f..l` go to the factor block, the others
-/// to the front's own update matrix. Rows whose front positions are consecutive are added as
-/// one slice, so the inner loop vectorizes (every vertex's unknowns are consecutive in PGP's
-/// block systems, and a child's rows often form long runs in its parent's front); the sums are
-/// the same as entry by entry. On the PGP benchmark (`benches/pgp.rs`, 414k-unknown Newton
-/// systems) the samples of the assembly (`factor_supernode`'s own time, mostly this loop) went
-/// from 12.5% to 10.4% of the run.
-#[allow(clippy::too_many_arguments)]
+/// Adds the columns of a child's update matrix whose front positions (`position`, see
+/// [`front_positions`]) fall in `columns` into the front of a supernode of `w` columns and
+/// leading dimension `ld`: columns before `w` go to the factor block, the others to the
+/// front's own update matrix. The factor block's part is added before the partial Cholesky,
+/// the update matrix's after it (the partial Cholesky overwrites the update matrix, which
+/// saves clearing it). Rows whose front positions are consecutive are added as one slice, so
+/// the inner loop vectorizes (every vertex's unknowns are consecutive in PGP's block systems,
+/// and a child's rows often form long runs in its parent's front); the sums are the same as
+/// entry by entry. On the PGP benchmark (`benches/pgp.rs`, 414k-unknown Newton systems) the
+/// samples of the assembly (`factor_supernode`'s own time, mostly this loop) went from 12.5%
+/// to 10.4% of the run.
 fn extend_add<T: ComplexField + Copy + Send + Sync>(
     block: &mut [T],
     update: &mut [T],
     ld: usize,
-    f: usize,
-    l: usize,
-    pattern: &[usize],
+    w: usize,
     child: &[T],
-    child_pattern: &[usize],
+    position: &[usize],
+    columns: impl std::ops::RangeBounds<usize>,
 ) {
-    let w = l - f;
     let m = ld - w;
-    let mc = child_pattern.len();
-    let position = front_positions(f, l, pattern, child_pattern);
-    let run_end = consecutive_run_ends(&position);
+    let mc = position.len();
+    let run_end = consecutive_run_ends(position);
     for (c2, &j) in position.iter().enumerate() {
+        if !columns.contains(&j) {
+            continue;
+        }
         let source = &child[c2 * mc..(c2 + 1) * mc];
         // Rows from c2 on all land in one region: the factor block's column j, or (j ≥ w, so
         // every row ≥ w too) the update matrix's column j − w.
@@ -508,10 +522,10 @@ fn consecutive_run_ends(position: &[usize]) -> Vec<usize> {
 }
 
 /// Dense partial Cholesky of a front `[F₁₁; F₂₁]` (`w` columns, stored in `block` with leading
-/// dimension `w + m`) and its update block `F₂₂` (`m × m`): `F₁₁ = L₁₁L₁₁ᴴ`,
-/// `L₂₁ = F₂₁L₁₁⁻ᴴ`, `F₂₂ ← F₂₂ − L₂₁L₂₁ᴴ` (lower triangle), eliminating only the first `e ≤ w`
-/// columns: then the columns `e..w` of the block are updated like `F₂₂`. Returns the failing
-/// pivot's index on a non-positive pivot.
+/// dimension `w + m`): `F₁₁ = L₁₁L₁₁ᴴ`, `L₂₁ = F₂₁L₁₁⁻ᴴ`, and `update ← −L₂₁L₂₁ᴴ` (lower
+/// triangle of the `m × m` update matrix, overwritten: the entries of `F₂₂` are added to it
+/// afterwards), eliminating only the first `e ≤ w` columns: then the columns `e..w` of the
+/// block are updated like `F₂₂`. Returns the failing pivot's index on a non-positive pivot.
 fn partial_cholesky<T: ComplexField + Copy + Send + Sync>(
     block: &mut [T],
     update: &mut [T],
@@ -556,7 +570,7 @@ fn partial_cholesky<T: ComplexField + Copy + Send + Sync>(
     matmul(
         u,
         BlockStructure::TriangularLower,
-        Accum::Add,
+        Accum::Replace,
         below,
         BlockStructure::Rectangular,
         below.adjoint(),
@@ -759,7 +773,7 @@ impl SupernodeTree {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::consecutive_run_ends;
     use crate::linalg::{lower_from_entries, CholeskyPattern};
     use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
@@ -767,9 +781,9 @@ mod tests {
 
     /// Hermitian positive-definite matrix on a `k × k` grid graph: a shifted Laplacian plus
     /// an antisymmetric imaginary part on the edges of the first row.
-    type Lower = Vec<(u32, u32, c64)>;
+    pub(crate) type Lower = Vec<(u32, u32, c64)>;
 
-    fn grid_matrix(k: u32) -> (Vec<c64>, Lower, Vec<[f64; 3]>) {
+    pub(crate) fn grid_matrix(k: u32) -> (Vec<c64>, Lower, Vec<[f64; 3]>) {
         let id = |i: u32, j: u32| j * k + i;
         let n = (k * k) as usize;
         let mut diagonal = vec![c64::new(0.1, 0.0); n];

@@ -33,8 +33,12 @@
 //!
 //! Cost per Newton iteration: one numeric factorization of a (B·V)×(B·V) matrix (one more per
 //! rejected shift) and O(E·B²) for the assembly, the gradient and each line-search energy. All
-//! factorizations go into the storage of the first one ([`CholeskyPattern::refactor`], which
-//! also keeps the large fronts' buffers between factorizations).
+//! factorizations go into the storage of the first one ([`CholeskyPattern::refactor_values`],
+//! which also keeps the large fronts' buffers between factorizations and puts each matrix
+//! entry straight into its front, [`crate::linalg::front_assembly`]); a rejected shift stops
+//! the factorization at the failing front. On the 207k-face disk of `benches/pgp.rs` a
+//! factorization plus its solve takes about 0.7 s, a rejected one 0.01–0.6 s depending on how
+//! near the root of the elimination tree it fails.
 //! Measured and not adopted (`benches/pgp_diagnostics.rs` on `closed_g0_armadillo`, 80
 //! iterations, 44 s for the Newton phase): conjugate gradients preconditioned by the previous
 //! iteration's factor (the Hessian changes most where the singular points move, so 5 iterations
@@ -209,9 +213,10 @@ pub const PERIODIC_EPSILON: f64 = 0.1;
 /// kitten 42, armadillo 80; nefertiti without curl correction needs more than 100; the paper
 /// needed ≤ 5 at its ε), while the singular triangles change by at most 0.5 points after 10
 /// (spot 1.26% at 10, 1.13% converged; kitten 0.90 / 0.81%). Each iteration is one or two
-/// factorizations: on the 207k-face disk of `benches/pgp.rs` the PGP step takes 21–25 s at 10
-/// iterations and 62–69 s converged (51 iterations), against the 60 s for the whole
-/// pipeline. Raise `max_iterations` (C: `max_newton_iterations`) to 100 to converge.
+/// factorizations: on the 207k-face disk of `benches/pgp.rs` the PGP step takes 19–20 s at 10
+/// iterations and 57–65 s converged (51 iterations) on this shared 2-core machine (52–55 s when
+/// it is quiet), against the 60 s for the whole pipeline. Raise `max_iterations`
+/// (C: `max_newton_iterations`) to 100 to converge.
 pub const PERIODIC_ITERATIONS: usize = 10;
 
 /// Options of [`minimize`].
@@ -588,7 +593,7 @@ impl BlockPattern {
         }
         let symbolic = SymbolicSparseColMat::new_checked(B * n, B * n, col_ptr, None, row_idx);
         let order = block_order::<B>(system, coords);
-        let analysis = CholeskyPattern::with_order(symbolic.as_ref(), Some(order))?;
+        let analysis = CholeskyPattern::with_fill_order(symbolic.as_ref(), Some(order))?;
         Ok(BlockPattern { column_edges, analysis })
     }
 
