@@ -225,25 +225,30 @@ impl CholeskyPattern {
         &self,
         lower: SparseColMatRef<'_, usize, T>,
     ) -> Result<CholeskySolver<T>> {
-        let mut values = try_zeroed_vec::<T>(self.symbolic.len_val())?;
+        let mut solver = self.unfactored()?;
         // An empty system (e.g. a fixed-boundary map of a mesh without interior vertices) has
         // nothing to factor; faer's analysis of it is not supernodal.
         if self.symbolic.nrows() > 0 {
-            multifrontal::factorize(&self.symbolic, lower, &mut values)?;
+            multifrontal::factorize(&self.symbolic, lower, &mut solver.values)?;
         }
-        Ok(CholeskySolver { symbolic: Arc::clone(&self.symbolic), values, spare: Vec::new(), plan: OnceLock::new() })
+        Ok(solver)
     }
 
     /// [`Self::factor`] of the matrix with the pattern [`Self::lower`] and the given values.
     pub fn factor_values<T: ComplexField + Copy + Send + Sync>(&self, values: &[T]) -> Result<CholeskySolver<T>> {
-        let mut solver = CholeskySolver {
+        let mut solver = self.unfactored()?;
+        self.refactor_values(values, &mut solver)?;
+        Ok(solver)
+    }
+
+    /// A solver of this pattern with zeroed factor storage (not a factor yet).
+    fn unfactored<T: ComplexField + Copy + Send + Sync>(&self) -> Result<CholeskySolver<T>> {
+        Ok(CholeskySolver {
             symbolic: Arc::clone(&self.symbolic),
             values: try_zeroed_vec::<T>(self.symbolic.len_val())?,
             spare: Vec::new(),
             plan: OnceLock::new(),
-        };
-        self.refactor_values(values, &mut solver)?;
-        Ok(solver)
+        })
     }
 
     /// [`Self::refactor`] of the matrix with the pattern [`Self::lower`] and the given values.
@@ -319,15 +324,11 @@ fn symbolic_cholesky(
 /// elimination trees in sparse factorization", §3.2).
 fn postorder_columns(sn: &SymbolicSupernodalCholesky<usize>) -> Option<Vec<usize>> {
     let count = sn.n_supernodes();
-    let mut owner = vec![0usize; sn.nrows()];
-    for s in 0..count {
-        owner[sn.supernode_begin()[s]..sn.supernode_end()[s]].fill(s);
-    }
     let mut children: Vec<Vec<usize>> = vec![Vec::new(); count];
     let mut roots = Vec::new();
-    for s in 0..count {
-        match sn.supernode(s).pattern().first() {
-            Some(&r) => children[owner[r]].push(s),
+    for (s, parent) in supernodal_solve::supernode_parents(sn).into_iter().enumerate() {
+        match parent {
+            Some(p) => children[p].push(s),
             None => roots.push(s),
         }
     }

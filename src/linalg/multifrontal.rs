@@ -704,12 +704,8 @@ struct SupernodeTree {
 impl SupernodeTree {
     fn new(sn: &SymbolicSupernodalCholesky<usize>) -> Self {
         let count = sn.n_supernodes();
-        let mut owner = vec![0u32; sn.nrows()];
-        for s in 0..count {
-            owner[sn.supernode_begin()[s]..sn.supernode_end()[s]].fill(s as u32);
-        }
         let parent: Vec<u32> =
-            (0..count).map(|s| sn.supernode(s).pattern().first().map_or(NONE, |&i| owner[i])).collect();
+            super::supernodal_solve::supernode_parents(sn).into_iter().map(|p| p.map_or(NONE, |p| p as u32)).collect();
         let mut child_start = vec![0u32; count + 1];
         for &p in &parent {
             if p != NONE {

@@ -279,12 +279,7 @@ impl SolvePlan {
     /// [`Self::new`] with the smallest factor size worth a plan.
     fn for_factors_from(sn: &SymbolicSupernodalCholesky<usize>, min_entries: usize) -> Option<Self> {
         let count = sn.n_supernodes();
-        let mut owner = vec![0usize; sn.nrows()];
-        for s in 0..count {
-            owner[sn.supernode_begin()[s]..sn.supernode_end()[s]].fill(s);
-        }
-        let parent: Vec<Option<usize>> =
-            (0..count).map(|s| sn.supernode(s).pattern().first().map(|&r| owner[r])).collect();
+        let parent = supernode_parents(sn);
         let mut weight: Vec<usize> =
             (0..count).map(|s| sn.col_ptr_for_val()[s + 1] - sn.col_ptr_for_val()[s]).collect();
         let total = weight.iter().sum::<usize>();
@@ -460,15 +455,28 @@ fn dot4<T: Scalar, const K: usize>(
     }
 }
 
+/// The supernode holding each column of a supernodal factor.
+pub(crate) fn supernode_of_columns(sn: &SymbolicSupernodalCholesky<usize>) -> Vec<usize> {
+    let mut owner = vec![0usize; sn.nrows()];
+    for s in 0..sn.n_supernodes() {
+        owner[sn.supernode_begin()[s]..sn.supernode_end()[s]].fill(s);
+    }
+    owner
+}
+
+/// The parent of each supernode in the supernodal elimination tree (the supernode holding the
+/// first row of its below-diagonal pattern; `None` for roots). Parents follow their children.
+pub(crate) fn supernode_parents(sn: &SymbolicSupernodalCholesky<usize>) -> Vec<Option<usize>> {
+    let owner = supernode_of_columns(sn);
+    (0..sn.n_supernodes()).map(|s| sn.supernode(s).pattern().first().map(|&r| owner[r])).collect()
+}
+
 /// Marks the supernodes a forward substitution must visit for a right-hand side whose nonzero
 /// rows are `rows` (elimination order): those holding such a row and their ancestors in the
 /// supernodal elimination tree (Gilbert 1994: the nonzeros of `L⁻¹b` are the reach of b's).
 pub fn active_supernodes(sn: &SymbolicSupernodalCholesky<usize>, rows: impl IntoIterator<Item = usize>) -> Vec<bool> {
     let count = sn.n_supernodes();
-    let mut owner = vec![0usize; sn.nrows()];
-    for s in 0..count {
-        owner[sn.supernode_begin()[s]..sn.supernode_end()[s]].fill(s);
-    }
+    let owner = supernode_of_columns(sn);
     let mut active = vec![false; count];
     for r in rows {
         active[owner[r]] = true;
