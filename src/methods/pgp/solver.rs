@@ -280,7 +280,7 @@ pub fn minimize<const B: usize>(
 
     // 1. The linear solve of F* with the locked blocks fixed.
     let mut values = Vec::new();
-    pattern.matrix_values(system, &is_locked, 1.0, None, &mut values);
+    pattern.matrix_values(system, &is_locked, 1.0, &mut values);
     let solver = pattern.analysis.factor_values(&values)?;
     let ax_locked = system.apply(&x);
     let mut rhs = Mat::<f64>::zeros(B * n, 1);
@@ -296,6 +296,10 @@ pub fn minimize<const B: usize>(
         }
     }
     crate::linalg::require_finite(x.iter().flatten().copied(), "periodic")?;
+    // The Newton matrices differ from 2A only in their diagonal blocks (the penalty's Hessian
+    // is block diagonal): the off-diagonal values are written once, the diagonal blocks per
+    // factorization (`BlockPattern::set_diagonal_blocks`).
+    pattern.matrix_values(system, &is_locked, 2.0, &mut values);
     let mut workspace = NewtonWorkspace { values, factor: solver };
     if options.epsilon > 0.0 {
         project_on_unit_pairs(&mut x, &is_locked);
@@ -473,13 +477,8 @@ fn newton_step<const B: usize>(
     let penalty = objective.penalty_hessian(x);
     let mut mu = shift;
     loop {
-        let mut extra = penalty.clone();
-        for h in extra.iter_mut() {
-            for (r, row) in h.iter_mut().enumerate() {
-                row[r] += mu * 4.0 * objective.epsilon;
-            }
-        }
-        pattern.matrix_values(objective.system, objective.locked, 2.0, Some(&extra), &mut workspace.values);
+        let diagonal = DiagonalTerms { scale: 2.0, blocks: &penalty, shift: mu * 4.0 * objective.epsilon };
+        pattern.set_diagonal_blocks(objective.system, objective.locked, &diagonal, &mut workspace.values);
         if let Some(step) = descent_step(pattern, &workspace.values, gradient, &mut workspace.factor)? {
             return Ok((step, mu));
         }
@@ -490,7 +489,8 @@ fn newton_step<const B: usize>(
     }
 }
 
-/// Storage reused by every Newton step: the matrix values and the factor.
+/// Storage reused by every Newton step: the matrix values (those of 2A outside the diagonal
+/// blocks) and the factor.
 struct NewtonWorkspace {
     values: Vec<f64>,
     factor: CholeskySolver<f64>,
@@ -597,15 +597,13 @@ impl BlockPattern {
         Ok(BlockPattern { column_edges, analysis })
     }
 
-    /// `scale · A + extra` (extra: per-block diagonal additions), with the rows and columns of
-    /// locked blocks replaced by the identity, as the values of the analysed pattern written into
-    /// `values` (whose storage is reused from call to call).
+    /// `scale · A`, with the rows and columns of locked blocks replaced by the identity, as the
+    /// values of the analysed pattern written into `values` (whose storage is reused).
     fn matrix_values<const B: usize>(
         &self,
         system: &BlockSystem<B>,
         locked: &[bool],
         scale: f64,
-        extra: Option<&[Block<B>]>,
         values: &mut Vec<f64>,
     ) {
         let n = system.blocks();
@@ -620,7 +618,7 @@ impl BlockPattern {
                             0.0
                         }
                     } else {
-                        scale * system.diag[j][r][c] + extra.map_or(0.0, |x| x[j][r][c])
+                        scale * system.diag[j][r][c]
                     };
                     values.push(v);
                 }
@@ -634,6 +632,35 @@ impl BlockPattern {
             }
         }
     }
+
+    /// Overwrites the diagonal blocks of the free blocks in `values` (from
+    /// [`Self::matrix_values`]; locked blocks keep their identity) with `terms`.
+    fn set_diagonal_blocks<const B: usize>(
+        &self,
+        system: &BlockSystem<B>,
+        locked: &[bool],
+        terms: &DiagonalTerms<'_, B>,
+        values: &mut [f64],
+    ) {
+        let col_ptr = self.analysis.lower().col_ptr();
+        for j in (0..system.blocks()).filter(|&j| !locked[j]) {
+            for c in 0..B {
+                // Each column of the block starts with the diagonal block's rows c..B.
+                let start = col_ptr[B * j + c];
+                for r in c..B {
+                    let identity = if r == c { terms.shift } else { 0.0 };
+                    values[start + r - c] = terms.scale * system.diag[j][r][c] + terms.blocks[j][r][c] + identity;
+                }
+            }
+        }
+    }
+}
+
+/// The diagonal blocks of a Newton matrix: `scale · A_vv + blocks[v] + shift · I`.
+struct DiagonalTerms<'a, const B: usize> {
+    scale: f64,
+    blocks: &'a [Block<B>],
+    shift: f64,
 }
 
 /// Elimination order: nested dissection of the vertex graph, each vertex's B unknowns kept
@@ -746,6 +773,45 @@ mod tests {
         let (_, report) = minimize(&s, mesh.points(), &locked, &options, &mut Progress::none(), (0.0, 1.0)).unwrap();
         assert!(report.converged, "{report:?}");
         assert!(report.iterations < 20, "{report:?}");
+    }
+
+    #[test]
+    fn newton_matrix_values_are_the_shifted_hessian_in_pattern_order() {
+        // Reference: column k of 2A is 2·A e_k (from `apply`), plus the penalty's block and the
+        // shift on the diagonal blocks; locked rows and columns are the identity's.
+        let (mesh, edges) = strip();
+        let mut s = pull_system(&mesh, &edges, [2.0, 0.0]);
+        s.off[1] = [[-1.0, 0.25], [-0.5, -1.0]]; // not symmetric per block, to catch transposes
+        let locked = [false, true, false, false, false];
+        let objective = Objective { system: &s, epsilon: 0.3, locked: &locked };
+        let x: Vec<[f64; 2]> = (0..5).map(|v| [0.2 * v as f64 - 0.3, 0.1 + 0.15 * v as f64]).collect();
+        let penalty = objective.penalty_hessian(&x);
+        let shift = 0.07;
+        let pattern = BlockPattern::new(&s, mesh.points()).unwrap();
+        let mut values = Vec::new();
+        pattern.matrix_values(&s, &locked, 2.0, &mut values);
+        let terms = DiagonalTerms { scale: 2.0, blocks: &penalty, shift };
+        pattern.set_diagonal_blocks(&s, &locked, &terms, &mut values);
+        let lower = pattern.analysis.lower();
+        let mut checked = 0;
+        for k in 0..10 {
+            let mut unit = vec![[0.0; 2]; 5];
+            unit[k / 2][k % 2] = 1.0;
+            let column = s.apply(&unit);
+            let range = lower.col_ptr()[k]..lower.col_ptr()[k + 1];
+            for (&i, &value) in lower.row_idx()[range.clone()].iter().zip(&values[range]) {
+                let (v, w) = (i / 2, k / 2);
+                let expected = if locked[v] || locked[w] {
+                    (i == k) as u8 as f64
+                } else {
+                    let diagonal = if v == w { penalty[v][i % 2][k % 2] + shift * (i == k) as u8 as f64 } else { 0.0 };
+                    2.0 * column[v][i % 2] + diagonal
+                };
+                assert!((value - expected).abs() < 1e-14, "entry ({i}, {k}): {value} vs {expected}");
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 3 * 5 + 4 * 7, "diagonal blocks' lower halves and the 7 edges' blocks");
     }
 
     #[test]
