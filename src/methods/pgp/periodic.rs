@@ -110,7 +110,7 @@ pub fn periodic_solve(
     let edges = EdgeList::new(mesh);
     let system = assemble(mesh, &edges, normals, field, omega);
     let locked = locked_vertices(mesh, &system);
-    let (x, report) = minimize(&system, mesh.points(), &locked, options, progress, span)?;
+    let (x, report) = minimize(&system, &locked, options, progress, span)?;
     let mut out = vec![[0.0; 4]; mesh.vertex_count()];
     for (b, &v) in system.vertex_of.iter().enumerate() {
         out[v as usize] = x[b];

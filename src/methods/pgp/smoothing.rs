@@ -135,7 +135,7 @@ pub fn smooth_field(
     let mut system = BlockSystem::<2>::new(mesh, &edges);
     add_fitting_term(&mut system, normals, &reference, field, &weights, k, 1.0 - options.rho);
     add_smoothing_term(&mut system, mesh, &edges, normals, &reference, k, options.rho);
-    let (z, report) = minimize(&system, mesh.points(), &[], &options.newton, progress, span)?;
+    let (z, report) = minimize(&system, &[], &options.newton, progress, span)?;
     let mut out = vec![[0.0; 3]; mesh.vertex_count()];
     for (b, &v) in system.vertex_of.iter().enumerate() {
         let alpha = z[b][1].atan2(z[b][0]) / k;
