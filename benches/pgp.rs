@@ -7,7 +7,7 @@
 //!     cargo bench --bench pgp                         # disk_face_libigl_loop1 (207k faces)
 //!     cargo bench --bench pgp -- path/to/mesh.obj     # other meshes
 //!     UVFLAT_PGP_RUNS=1 cargo bench --bench pgp       # runs per mesh (default 3, median)
-//!     UVFLAT_PGP_NEWTON=100 cargo bench --bench pgp   # Newton iteration limit (default 10)
+//!     UVFLAT_PGP_NEWTON=10 cargo bench --bench pgp    # Newton iteration limit (default 100)
 //!
 //! Columns: the periodic solve's Newton iterations (* where ‖∇F**‖ < 10⁻⁶ was reached, last
 //! run), wall seconds of `pgp` (everything up to the singularities), of the chart layout,

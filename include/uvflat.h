@@ -326,19 +326,18 @@
 #define PERIODIC_EPSILON 0.1
 
 /**
- * Default Newton iteration limit of the periodic solve. At ε = [`PERIODIC_EPSILON`] the
- * singular points keep drifting apart slowly after the first few iterations: with the damped
- * steps (module comment) ‖∇F**‖ < 10⁻⁶ takes 5–80 iterations on the closed meshes of
- * `../shared/meshes` with and without curl correction (bunny 9, cow 15, man 28, spot 30,
- * kitten 42, armadillo 80; nefertiti without curl correction needs more than 100; the paper
- * needed ≤ 5 at its ε), while the singular triangles change by at most 0.5 points after 10
- * (spot 1.26% at 10, 1.13% converged; kitten 0.90 / 0.81%). Each iteration is one or two
- * factorizations: on the 207k-face disk of `benches/pgp.rs` the PGP step takes 19–20 s at 10
- * iterations and 57–65 s converged (51 iterations) on this shared 2-core machine (52–55 s when
- * it is quiet), against the issue's 60 s for the whole pipeline. Raise `max_iterations`
- * (C: `max_newton_iterations`) to 100 to converge.
+ * Default Newton iteration limit of the periodic solve: a safeguard, Newton normally stops
+ * earlier at ‖∇F**‖ < 10⁻⁶ (the paper's criterion). At ε = [`PERIODIC_EPSILON`] the singular
+ * points drift apart slowly after the first few iterations: with the damped steps (module
+ * comment) the tolerance takes 5–80 iterations on all 15 closed meshes of `../shared/meshes`
+ * with and without curl correction (bunny 9, cow 15, man 28, spot 30, kitten 42, nefertiti 52,
+ * armadillo 80; the paper needed ≤ 5 at its ε). Each iteration is one or two factorizations: on the 207k-face disk of
+ * `benches/pgp.rs` the whole pipeline converges (51 iterations) in 35–37 s on this shared
+ * 2-core machine, against the issue's 60 s. A smaller limit trades the last digits of the
+ * gradient for time: the singular triangles change by at most 0.5 points after 10 iterations
+ * (spot 1.26% at 10, 1.13% converged; kitten 0.90 / 0.81%).
  */
-#define PERIODIC_ITERATIONS 10
+#define PERIODIC_ITERATIONS 100
 
 /**
  * Status codes of the C ABI. `Ok` is 0; every failure class has its own code.
@@ -1228,8 +1227,9 @@ typedef struct UvfPgpOptions {
    */
   double gradient_tolerance;
   /**
-   * Newton iteration limit (default 10, which keeps a 200k-face mesh under a minute; 100
-   * reaches ‖∇F**‖ < 1e-6 on the meshes measured, see the README).
+   * Newton iteration limit (default 100, a safeguard: Newton stops once ‖∇F**‖ < 1e-6, within
+   * 5–80 iterations on the meshes measured, 51 and 35–37 s for a 207k-face mesh; 10 is about
+   * 3× faster with nearly the same singularities, see the README).
    */
   uint32_t max_newton_iterations;
   /**

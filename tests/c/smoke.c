@@ -534,7 +534,7 @@ static void check_pgp(void) {
 
     uvf_pgp_options_default(&options);
     check(options.struct_size == sizeof options && options.smoothing == UVF_SMOOTH_HALF_PI && options.omega == 0.0 &&
-              options.epsilon == 0.1 && options.max_newton_iterations == 10 && options.rho == 0.8,
+              options.epsilon == 0.1 && options.max_newton_iterations == 100 && options.rho == 0.8,
           "pgp defaults");
     status = uvf_pgp(pos, nv, tris, nt, &options, corners, &pgp);
     check(status == UVF_OK && pgp != NULL, "pgp of a torus");

@@ -69,7 +69,7 @@ pub struct PgpOptions {
     /// Curl correction (§4.1).
     pub curl_correction: bool,
     /// Periodic solve: ε (default [`solver::PERIODIC_EPSILON`] = 0.1; paper 10⁻³), gradient
-    /// tolerance (10⁻⁶), iterations ([`solver::PERIODIC_ITERATIONS`] = 10).
+    /// tolerance (10⁻⁶), iterations ([`solver::PERIODIC_ITERATIONS`] = 100).
     pub newton: NewtonOptions,
 }
 

@@ -37,8 +37,9 @@
 //! which also keeps the large fronts' buffers between factorizations and puts each matrix
 //! entry straight into its front, [`crate::linalg::front_assembly`]); a rejected shift stops
 //! the factorization at the failing front. On the 207k-face disk of `benches/pgp.rs` a
-//! factorization plus its solve takes about 0.7 s, a rejected one 0.01–0.6 s depending on how
-//! near the root of the elimination tree it fails.
+//! factorization plus its solve takes about 0.55 s (0.44 + 0.11 s; 0.7 s with the plane-split
+//! order used before [`block_order`]), a rejected one 0.01–0.4 s depending on how near the root
+//! of the elimination tree it fails.
 //! Measured and not adopted (`benches/pgp_diagnostics.rs` on `closed_g0_armadillo`, 80
 //! iterations, 44 s for the Newton phase): conjugate gradients preconditioned by the previous
 //! iteration's factor (the Hessian changes most where the singular points move, so 5 iterations
@@ -206,18 +207,17 @@ fn mul_transposed<const B: usize>(m: &Block<B>, x: &[f64; B]) -> [f64; B] {
 /// Newton phase (singular points drift apart over 10–30 iterations instead of 3–5).
 pub const PERIODIC_EPSILON: f64 = 0.1;
 
-/// Default Newton iteration limit of the periodic solve. At ε = [`PERIODIC_EPSILON`] the
-/// singular points keep drifting apart slowly after the first few iterations: with the damped
-/// steps (module comment) ‖∇F**‖ < 10⁻⁶ takes 5–80 iterations on the closed meshes of
-/// `../shared/meshes` with and without curl correction (bunny 9, cow 15, man 28, spot 30,
-/// kitten 42, armadillo 80; nefertiti without curl correction needs more than 100; the paper
-/// needed ≤ 5 at its ε), while the singular triangles change by at most 0.5 points after 10
-/// (spot 1.26% at 10, 1.13% converged; kitten 0.90 / 0.81%). Each iteration is one or two
-/// factorizations: on the 207k-face disk of `benches/pgp.rs` the PGP step takes 19–20 s at 10
-/// iterations and 57–65 s converged (51 iterations) on this shared 2-core machine (52–55 s when
-/// it is quiet), against the 60 s for the whole pipeline. Raise `max_iterations`
-/// (C: `max_newton_iterations`) to 100 to converge.
-pub const PERIODIC_ITERATIONS: usize = 10;
+/// Default Newton iteration limit of the periodic solve: a safeguard, Newton normally stops
+/// earlier at ‖∇F**‖ < 10⁻⁶ (the paper's criterion). At ε = [`PERIODIC_EPSILON`] the singular
+/// points drift apart slowly after the first few iterations: with the damped steps (module
+/// comment) the tolerance takes 5–80 iterations on all 15 closed meshes of `../shared/meshes`
+/// with and without curl correction (bunny 9, cow 15, man 28, spot 30, kitten 42, nefertiti 52,
+/// armadillo 80; the paper needed ≤ 5 at its ε). Each iteration is one or two factorizations: on the 207k-face disk of
+/// `benches/pgp.rs` the whole pipeline converges (51 iterations) in 35–37 s on this shared
+/// 2-core machine, against the 60 s. A smaller limit trades the last digits of the
+/// gradient for time: the singular triangles change by at most 0.5 points after 10 iterations
+/// (spot 1.26% at 10, 1.13% converged; kitten 0.90 / 0.81%).
+pub const PERIODIC_ITERATIONS: usize = 100;
 
 /// Options of [`minimize`].
 #[derive(Debug, Clone, Copy, PartialEq)]
