@@ -14,6 +14,7 @@ pub fn load(file: &str) -> TriMesh {
 }
 
 /// File names of the closed meshes, sorted.
+#[allow(dead_code)]
 pub fn closed_meshes() -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(MESH_DIR)
         .expect("mesh dir")
