@@ -13,7 +13,9 @@
 //! smoothing; FIELDW=uniform|paper|CAP fitting weights (uniform, eq. 21's |kmax/kmin|, or the
 //! default anisotropy capped at CAP); PTS=1 local edge length and normal deviation at the
 //! singular points; OUT=1 the worst regular triangles by stretch; PERIOD=p sets ω to one period
-//! per p mean edge lengths (default 10). It also prints the triangles around which the rotation
+//! per p mean edge lengths (default 10); NOUNTANGLE=1 keeps Algorithm 1's corners (no
+//! untangling). It also prints what the untangling did, the sizes of the edge-connected
+//! groups of negative triangles left, and the triangles around which the rotation
 //! matching of eq. 13 does not close (the field's singular triangles as the periodic solve
 //! sees them) and where the negative (θ, φ) triangles lie (needles, next to singular points).
 //! A measuring tool, not part of the library: it panics with a message on bad arguments.
@@ -71,6 +73,9 @@ fn main() {
     if let Ok(e) = std::env::var("IT") {
         opts.newton.max_iterations = e.parse().unwrap();
     }
+    if std::env::var("NOUNTANGLE").is_ok() {
+        opts.untangle = false;
+    }
     if let Ok(e) = std::env::var("PERIOD") {
         opts.omega = Some(std::f64::consts::TAU / (e.parse::<f64>().unwrap() * l));
     }
@@ -106,6 +111,7 @@ fn main() {
     }
     let r = pgp(&mesh, &opts, &mut Progress::none()).unwrap();
     let secs = start.elapsed().as_secs_f64();
+    println!("  untangled: {:?}", r.untangled);
     let smooth = face_field_indices(&mesh, &face_directions(&mesh, &r.normals, &r.field, Symmetry::Cross), 4);
     let q = quality(&mesh, &r.param, &r.singularities, &r.normals, &r.field, r.omega).unwrap();
     let s = &r.singularities;
@@ -308,6 +314,35 @@ fn main() {
                 small += 1;
             }
         }
+        // Connected groups of negative triangles (sharing an edge) and their sizes.
+        let negative: Vec<bool> =
+            (0..mesh.triangle_count()).map(|t| !r.param.open[t] && signed_area2(&r.param.coords[t]) <= 0.0).collect();
+        let twin = &mesh.connectivity().twin;
+        let mut seen = vec![false; mesh.triangle_count()];
+        let mut sizes: Vec<usize> = Vec::new();
+        for t0 in 0..mesh.triangle_count() {
+            if !negative[t0] || seen[t0] {
+                continue;
+            }
+            let (mut stack, mut size) = (vec![t0], 0);
+            seen[t0] = true;
+            while let Some(t) = stack.pop() {
+                size += 1;
+                for k in 0..3 {
+                    let h = twin[3 * t + k];
+                    if h != u32::MAX && negative[(h / 3) as usize] && !seen[(h / 3) as usize] {
+                        seen[(h / 3) as usize] = true;
+                        stack.push((h / 3) as usize);
+                    }
+                }
+            }
+            sizes.push(size);
+        }
+        let hist: Vec<usize> = [1, 2, 3, 4, 6, 10, usize::MAX]
+            .windows(2)
+            .map(|w| sizes.iter().filter(|&&z| z >= w[0] && z < w[1]).count())
+            .collect();
+        println!("  negative groups {} sizes [1,2,3,4-5,6-9,10+] {:?}", sizes.len(), hist);
         println!("  negative triangles {n}: needle {needle} touch-singular-point {touch} within-2-rings {near} small-U {small}");
     }
     let (rp, rn) = count(&raw);

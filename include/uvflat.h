@@ -1252,6 +1252,13 @@ typedef struct UvfPgpOptions {
    * Passed to `progress` unchanged.
    */
   void *progress_user;
+  /**
+   * Non-zero (default 1): untangle the per-corner (θ, φ) after Algorithm 1 — negative
+   * triangles next to singular points made positive by moving vertex phases, every
+   * transition kept (not in the paper; see the README). 0: Algorithm 1's output as it is.
+   * Added after `progress_user`: callers built before it get the default.
+   */
+  uint32_t untangle;
 } UvfPgpOptions;
 
 /**

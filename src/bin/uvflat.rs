@@ -83,6 +83,11 @@ struct PgpArgs {
     /// isometric.
     #[arg(long = "curl-correction")]
     curl_correction: bool,
+    /// Keep Algorithm 1's per-corner (θ, φ) as it is: no untangling of the negative triangles
+    /// next to singular points (the untangling moves vertex phases, keeping every transition;
+    /// not in the paper, see the README).
+    #[arg(long = "no-untangle")]
+    no_untangle: bool,
     /// Field smoothing (§4.2): directions equal modulo 2pi, pi or pi/2, or none.
     #[arg(long, value_enum, default_value_t = SmoothName::HalfPi)]
     smooth: SmoothName,
@@ -666,6 +671,7 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
     let mut options = PgpOptions {
         omega: args.omega,
         curl_correction: args.curl_correction,
+        untangle: !args.no_untangle,
         smoothing: symmetry.map(|symmetry| SmoothingOptions { symmetry, ..SmoothingOptions::default() }),
         ..PgpOptions::default()
     };
@@ -726,6 +732,11 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
                 "singular_points": points.len(), "index_sum": s.index_sum(),
                 "newton_iterations": result.solve.iterations, "converged": result.solve.converged,
                 "final_gradient": result.solve.final_gradient,
+                "untangled": serde_json::json!({
+                    "negative_before": result.untangled.negative_before,
+                    "negative_after": result.untangled.negative_after,
+                    "moved_vertices": result.untangled.moved_vertices,
+                }),
                 "stretch": q.stretch, "shear": q.shear, "alignment_degrees": q.alignment_degrees,
                 "output": args.output.display().to_string(),
                 "quad_mesh": quads.map(|(faces, quads, vertices)| serde_json::json!({

@@ -178,6 +178,11 @@ pub struct UvfPgpOptions {
     pub progress: UvfProgressFn,
     /// Passed to `progress` unchanged.
     pub progress_user: *mut c_void,
+    /// Non-zero (default 1): untangle the per-corner (θ, φ) after Algorithm 1 — negative
+    /// triangles next to singular points made positive by moving vertex phases, every
+    /// transition kept (not in the paper; see the README). 0: Algorithm 1's output as it is.
+    /// Added after `progress_user`: callers built before it get the default.
+    pub untangle: u32,
 }
 
 impl Default for UvfPgpOptions {
@@ -199,11 +204,13 @@ impl Default for UvfPgpOptions {
             curvature_radius: 0.0,
             progress: None,
             progress_user: std::ptr::null_mut(),
+            untangle: 1,
         }
     }
 }
 
-const PGP_OPTIONS_V1: usize = std::mem::size_of::<UvfPgpOptions>();
+/// The size of the first version of `UvfPgpOptions` (up to `progress_user`).
+const PGP_OPTIONS_V1: usize = std::mem::offset_of!(UvfPgpOptions, untangle);
 
 /// Fills `options` with defaults.
 ///
@@ -286,6 +293,7 @@ fn pgp_options(o: &UvfPgpOptions, vertex_count: usize) -> Result<PgpOptions> {
             }
         }),
         curl_correction: o.curl_correction != 0,
+        untangle: o.untangle != 0,
         newton,
     })
 }

@@ -534,7 +534,8 @@ static void check_pgp(void) {
 
     uvf_pgp_options_default(&options);
     check(options.struct_size == sizeof options && options.smoothing == UVF_SMOOTH_HALF_PI && options.omega == 0.0 &&
-              options.epsilon == 0.1 && options.max_newton_iterations == 100 && options.rho == 0.8,
+              options.epsilon == 0.1 && options.max_newton_iterations == 100 && options.rho == 0.8 &&
+              options.untangle == 1,
           "pgp defaults");
     status = uvf_pgp(pos, nv, tris, nt, &options, corners, &pgp);
     check(status == UVF_OK && pgp != NULL, "pgp of a torus");
@@ -665,6 +666,14 @@ static void check_pgp(void) {
     options.progress = NULL;
     options.smoothing = 3;
     check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_INVALID_ARGUMENT, "unknown smoothing");
+    options.smoothing = UVF_SMOOTH_HALF_PI;
+    options.untangle = 0;
+    check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_OK, "pgp without untangling");
+    /* Callers built before `untangle` existed pass the first version's size and get the default. */
+    options.struct_size = offsetof(UvfPgpOptions, untangle);
+    check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_OK, "first-version pgp options are accepted");
+    options.struct_size = offsetof(UvfPgpOptions, untangle) - 1;
+    check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_INVALID_ARGUMENT, "too small options");
 }
 
 /* uvf_atlas: a torus becomes charts without flips, packed into the unit square; the handle's

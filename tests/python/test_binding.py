@@ -980,6 +980,32 @@ def test_pgp_equals_the_cli_and_its_indices_sum_to_the_euler_characteristic(tmp_
     assert not shorter_json["converged"] and shorter_json["newton_iterations"] == shorter.newton_iterations
 
 
+def test_pgp_untangling_repairs_negative_triangles_and_can_be_turned_off(tmp_path):
+    # The untangling (on by default, not in Ray et al. 2006) moves vertex phases only: the
+    # singular edges (transitions) stay, fewer (θ, φ) triangles are negative or singular.
+    name = "closed_g0_cow.obj"
+    p, t = load_mesh(name)
+    raw = uvflat.pgp(p, t, untangle=False)
+    fixed = uvflat.pgp(p, t)
+
+    def negative(r):
+        c = r.corner_coords
+        e1, e2 = c[:, 1] - c[:, 0], c[:, 2] - c[:, 0]
+        return int(((e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) <= 0).sum())
+
+    assert negative(fixed) < 0.75 * negative(raw)
+    assert len(fixed.singular_triangles) < len(raw.singular_triangles)
+    np.testing.assert_array_equal(raw.singular_edges, fixed.singular_edges)
+    out = tmp_path / "pgp.obj"
+    plain = json.loads(run_cli("pgp", str(mesh_path(name)), "-o", str(out), "--json", "--no-untangle").stdout)
+    assert plain["singular_triangles"] == len(raw.singular_triangles)
+    assert plain["untangled"]["moved_vertices"] == 0
+    default = json.loads(run_cli("pgp", str(mesh_path(name)), "-o", str(out), "--json").stdout)
+    assert default["singular_triangles"] == len(fixed.singular_triangles)
+    u = default["untangled"]
+    assert u["negative_after"] < u["negative_before"] and u["moved_vertices"] > 0
+
+
 def test_pgp_rejects_a_bad_field_naming_the_vertex_and_cancels():
     p, t = load_mesh("closed_g1_bob.obj")
     field = uvflat.curvature(p, t).kmax_direction.copy()

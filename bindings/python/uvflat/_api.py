@@ -1098,6 +1098,7 @@ def pgp(
     quad_mesh: Optional[float] = None,
     chart_layout: bool = False,
     charts: Optional[float] = None,
+    untangle: bool = True,
 ) -> PgpResult:
     """Periodic Global Parameterization (Ray, Li, Lévy, Sheffer, Alliez 2006; ``uvf_pgp``) of a
     manifold mesh of any genus, without cutting: principal-curvature field (or ``field``, an
@@ -1108,7 +1109,9 @@ def pgp(
     paper's 10⁻³ lets every norm collapse on typical meshes, see the README);
     ``max_newton_iterations`` bounds its Newton phase, which stops at the paper's ‖∇F**‖ < 10⁻⁶
     (5–80 iterations on the meshes measured, ``converged`` tells; 10 is about 3× faster with
-    nearly the same singularities).
+    nearly the same singularities). ``untangle=False`` keeps Algorithm 1's per-corner (θ, φ) as
+    it is; by default the negative triangles next to singular points are made positive by
+    moving vertex phases, every transition kept (not in the paper; see the README).
 
     ``quad_mesh`` (a whole number of iso-lines per period, e.g. 8) also returns the quad-dominant
     remesh of §5 (vertices on the surface, non-quads split into quads and triangles; quad sides
@@ -1125,6 +1128,7 @@ def pgp(
         options.omega = float(omega)
     options.smoothing = _code(smooth, _SMOOTHING, "smooth")
     options.curl_correction = 1 if curl_correction else 0
+    options.untangle = 1 if untangle else 0
     options.rho = float(rho)
     options.epsilon = float(epsilon)
     if isinstance(max_newton_iterations, bool) or int(max_newton_iterations) != max_newton_iterations:

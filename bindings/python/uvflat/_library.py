@@ -439,6 +439,7 @@ class UvfPgpOptions(Structure):
         ("curvature_radius", c_double),
         ("progress", UvfProgressFn),
         ("progress_user", c_void_p),
+        ("untangle", c_uint32),
     ]
 
 

@@ -9,6 +9,8 @@
 //! - [`periodic`]: the periodic energy (§2.3–2.4, eqs. 13–15, Appendix B eq. 24);
 //! - [`solver`]: its minimization (§2.5: linear solve, then Newton on F** with the penalty);
 //! - [`extraction`]: per-triangle (θ, φ) at the corners (§3.1, Algorithm 1);
+//! - [`untangle`]: negative (θ, φ) triangles next to singular points made positive by moving
+//!   vertex phases, every transition kept (not in the paper; optional, on by default);
 //! - [`singularities`]: singular vertices, edges, triangles and indices (§3.2);
 //! - [`quality`]: singular-triangle fraction, stretch, shear, alignment (Table I);
 //! - [`isolines`]: the graph of iso-lines on the surface (§3.3 Algorithm 2, and §5's density);
@@ -21,7 +23,8 @@
 //! - [`split`]: N-sided singular charts split into quads (§3.4).
 //!
 //! Pipeline of [`pgp`]: field (curvature directions or the caller's) → optional smoothing →
-//! optional curl correction → periodic solve → per-corner (θ, φ) → singularities.
+//! optional curl correction → periodic solve → per-corner (θ, φ) → optional untangling →
+//! singularities.
 
 pub mod charts;
 pub mod curl;
@@ -38,6 +41,7 @@ pub mod singularities;
 pub mod smoothing;
 pub mod solver;
 pub mod split;
+pub mod untangle;
 
 use crate::error::{Error, Result};
 use crate::progress::Progress;
@@ -68,6 +72,10 @@ pub struct PgpOptions {
     pub smoothing: Option<SmoothingOptions>,
     /// Curl correction (§4.1).
     pub curl_correction: bool,
+    /// Untangle the per-corner (θ, φ) after Algorithm 1 ([`untangle`], not in the paper):
+    /// negative triangles next to singular points made positive without changing any
+    /// transition. Default true; false gives Algorithm 1's output as it is.
+    pub untangle: bool,
     /// Periodic solve: ε (default [`solver::PERIODIC_EPSILON`] = 0.1; paper 10⁻³), gradient
     /// tolerance (10⁻⁶), iterations ([`solver::PERIODIC_ITERATIONS`] = 100).
     pub newton: NewtonOptions,
@@ -81,6 +89,7 @@ impl Default for PgpOptions {
             curvature: CurvatureOptions::default(),
             smoothing: Some(SmoothingOptions::default()),
             curl_correction: false,
+            untangle: true,
             newton: NewtonOptions::default(),
         }
     }
@@ -106,6 +115,8 @@ pub struct PgpResult {
     pub solve: SolveReport,
     /// The smoothing solve's report, when smoothing ran.
     pub smoothing: Option<SolveReport>,
+    /// What the untangling of the per-corner (θ, φ) did ([`untangle`]).
+    pub untangled: untangle::UntangleReport,
 }
 
 /// ω = 2π / (10 × mean edge length) (see [`EDGES_PER_PERIOD`]).
@@ -142,12 +153,17 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
         field = field.iter().zip(&v).map(|(&k, &s)| scale(k, s)).collect();
     }
     progress.report(0.35)?;
-    let (unknowns, solve) =
+    let (mut unknowns, solve) =
         periodic::periodic_solve(mesh, &normals, &field, omega, &options.newton, progress, (0.35, 0.95))?;
-    let param = corner_parameterization(mesh, &normals, &field, &unknowns, omega);
+    let mut param = corner_parameterization(mesh, &normals, &field, &unknowns, omega);
+    let untangled = if options.untangle {
+        untangle::untangle(mesh, &mut param, &mut unknowns, omega)
+    } else {
+        untangle::UntangleReport::untouched(&param)
+    };
     let singularities = find_singularities(mesh, &param);
     progress.report(1.0)?;
-    Ok(PgpResult { param, singularities, field, normals, omega, unknowns, solve, smoothing })
+    Ok(PgpResult { param, singularities, field, normals, omega, unknowns, solve, smoothing, untangled })
 }
 
 /// The caller's field projected on the tangent planes and normalized; errors name the first
