@@ -27,11 +27,12 @@
 //! sweeps end, after at most as many moves as there were tangled triangles. Open triangles
 //! stay singular whatever their orientation and constrain nothing.
 //!
-//! Measured on the 15 closed meshes (README, "Periodic Global Parameterization"): 54–89% of
-//! the negative triangles repaired, the singular triangles 0.8 → 0.4% (kitten) to 13.9 → 7.4%
-//! (knight). What stays are the open triangles and the groups of negative triangles where one
-//! of the two functions is a standing rather than a travelling wave (‖V‖ ≈ 0.5, ∇φ small and
-//! reversed, where a feature is narrower than a period): no vertex of those can move alone.
+//! Measured on the 15 closed meshes, with and without curl correction (README, "Periodic
+//! Global Parameterization"): 32–100% of the negative triangles repaired (median 75%), the
+//! singular triangles 1.54 → 0.93% (armadillo) or 13.9 → 7.4% (knight). What stays are the
+//! open triangles and groups of negative triangles where one of the two functions is a
+//! standing rather than a travelling wave (‖V‖ ≈ 0.5, ∇φ small and reversed, where a feature is
+//! narrower than a period; cow 686 → 467): no vertex of those can move alone.
 //!
 //! Cost: O(valence²) per move, on the few vertices next to tangled triangles.
 
