@@ -28,6 +28,7 @@
 //! Cost: O(F + output) for the cut and the assembly, one small sparse solve per singular chart
 //! (in parallel).
 
+use super::frames::rotate_coords;
 use super::isolines::{iso_graph, IsoGraph, NodeKind};
 use super::refine::{refine, RefinedMesh};
 use super::singularities::transition;
@@ -188,10 +189,6 @@ fn regions(cut: &TriMesh, refined: &RefinedMesh) -> (Vec<u32>, usize) {
 /// A transition of eq. 16: `x ↦ P^rot x + 2π shift`, P(θ, φ) = (φ, −θ).
 type Frame = (u8, [i64; 2]);
 
-fn rotate(r: u8, x: [f64; 2]) -> [f64; 2] {
-    (0..r % 4).fold(x, |x, _| [x[1], -x[0]])
-}
-
 fn rotate_int(r: u8, x: [i64; 2]) -> [i64; 2] {
     (0..r % 4).fold(x, |x, _| [x[1], -x[0]])
 }
@@ -340,7 +337,7 @@ impl Context<'_> {
                 .map(|&r| {
                     let (rot, d) = frame[&r];
                     std::array::from_fn(|k| {
-                        let x = rotate(rot, self.corner_coords(r as usize, k));
+                        let x = rotate_coords(rot, self.corner_coords(r as usize, k));
                         [x[0] * self.scale + self.density * d[0] as f64, x[1] * self.scale + self.density * d[1] as f64]
                     })
                 })

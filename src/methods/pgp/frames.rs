@@ -64,6 +64,12 @@ pub fn tangent_part(v: [f64; 3], n: [f64; 3]) -> [f64; 3] {
     sub(v, scale(n, dot(v, n)))
 }
 
+/// `P^r x` for parameter coordinates x = (θ, φ), with P(θ, φ) = (φ, −θ): the quarter turn the
+/// rotation matching applies to the unknowns ([`super::periodic::unknown_rotation`]).
+pub fn rotate_coords(r: u8, x: [f64; 2]) -> [f64; 2] {
+    (0..r % 4).fold(x, |x, _| [x[1], -x[0]])
+}
+
 /// `R^r v`: `v` rotated by `r · π/2` counter-clockwise about the unit normal `n` (for `v` in
 /// the tangent plane of `n`): `v`, `n × v`, `−v`, `−n × v`.
 pub fn rotate_quarter(n: [f64; 3], v: [f64; 3], r: u8) -> [f64; 3] {

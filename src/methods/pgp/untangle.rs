@@ -37,6 +37,7 @@
 //! Cost: O(valence²) per move, on the few vertices next to tangled triangles.
 
 use super::extraction::CornerParameterization;
+use super::frames::rotate_coords as rotate;
 use super::singularities::signed_area2;
 use crate::geometry::{cross, dot, norm, sub};
 use crate::TriMesh;
@@ -122,11 +123,6 @@ fn tangled_vertices(mesh: &TriMesh, param: &CornerParameterization, isometric: &
     v.sort_unstable();
     v.dedup();
     v
-}
-
-/// `P^r d` with P(θ, φ) = (φ, −θ), the quarter turn of the unknowns' rotation.
-fn rotate(r: u8, d: [f64; 2]) -> [f64; 2] {
-    (0..r % 4).fold(d, |x, _| [x[1], -x[0]])
 }
 
 /// `P^-r d`.
