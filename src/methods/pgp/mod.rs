@@ -109,7 +109,8 @@ pub struct PgpResult {
     pub normals: Vec<[f64; 3]>,
     /// The frequency used.
     pub omega: f64,
-    /// X = (cos θ, sin θ, cos φ, sin φ) per vertex.
+    /// X = (cos θ, sin θ, cos φ, sin φ) per vertex, from the periodic solve (with the untangling
+    /// its phases are turned so that they still give `param` through Algorithm 1's integers).
     pub unknowns: Vec<[f64; 4]>,
     /// The periodic solve's report.
     pub solve: SolveReport,
