@@ -14,7 +14,8 @@
 //! default anisotropy capped at CAP); PTS=1 local edge length and normal deviation at the
 //! singular points; OUT=1 the worst regular triangles by stretch; PERIOD=p sets ω to one period
 //! per p mean edge lengths (default 10); NOUNTANGLE=1 keeps Algorithm 1's corners (no
-//! untangling). It also prints what the untangling did, the sizes of the edge-connected
+//! untangling); FEATURE_PERIODS=c the feature-adaptive density (default 3, 0 = the paper's single
+//! ω). It also prints what the untangling did, the sizes of the edge-connected
 //! groups of negative triangles left, and the triangles around which the rotation
 //! matching of eq. 13 does not close (the field's singular triangles as the periodic solve
 //! sees them) and where the negative (θ, φ) triangles lie (needles, next to singular points).
@@ -51,6 +52,9 @@ fn main() {
     let mesh = TriMesh::new(&obj.positions, &obj.triangles).expect("valid mesh");
     let l = mean_edge_length(&mesh);
     let mut opts = PgpOptions { curl_correction: cc, ..PgpOptions::default() };
+    if let Ok(c) = std::env::var("FEATURE_PERIODS") {
+        opts.feature_periods = c.parse().expect("FEATURE_PERIODS is a number");
+    }
     opts.curvature = CurvatureOptions { neighbourhood: Neighbourhood::Rings(rings) };
     if let Ok(f) = std::env::var("RADIUS") {
         opts.curvature = CurvatureOptions { neighbourhood: Neighbourhood::Radius(f.parse::<f64>().unwrap() * l) };

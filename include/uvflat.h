@@ -1259,6 +1259,14 @@ typedef struct UvfPgpOptions {
    * Added after `progress_user`: callers built before it get the default.
    */
   uint32_t untangle;
+  /**
+   * Minimum number of periods around a curved feature (default 3): where a curvature radius
+   * r holds fewer than this many periods ω r, the field is scaled up (at most 2.5×) so that
+   * legs, horns and fingers narrower than a period get travelling waves rather than singular
+   * standing ones (not in the paper; see the README). 0: the paper's single ω everywhere.
+   * Added after `untangle`: callers built before it get the default.
+   */
+  double feature_periods;
 } UvfPgpOptions;
 
 /**

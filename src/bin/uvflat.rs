@@ -88,6 +88,12 @@ struct PgpArgs {
     /// not in the paper, see the README).
     #[arg(long = "no-untangle")]
     no_untangle: bool,
+    /// Minimum number of periods around a curved feature: where a curvature radius r holds fewer
+    /// than C periods (omega r < C), the frequency is raised there (at most 2.5x) so that legs,
+    /// horns and fingers narrower than a period are not singular standing waves (not in the
+    /// paper, see the README). 0: the paper's single omega everywhere.
+    #[arg(long = "feature-periods", default_value_t = uvflat::methods::pgp::density::DEFAULT_FEATURE_PERIODS)]
+    feature_periods: f64,
     /// Field smoothing (§4.2): directions equal modulo 2pi, pi or pi/2, or none.
     #[arg(long, value_enum, default_value_t = SmoothName::HalfPi)]
     smooth: SmoothName,
@@ -100,7 +106,8 @@ struct PgpArgs {
     #[arg(long = "quad-mesh")]
     quad_mesh: Option<PathBuf>,
     /// Iso-lines per period for --quad-mesh (a whole number >= 1; quad sides are about
-    /// 2pi / (omega x density) long, 10 / density mean edge lengths with the default omega).
+    /// 2pi / (omega x density) long, 10 / density mean edge lengths with the default omega, and
+    /// down to 2.5x shorter on curved features, see --feature-periods).
     #[arg(long = "quad-density", default_value_t = 8.0)]
     quad_density: f64,
     /// Draw the quad-dominant remesh into this SVG file (needs --quad-mesh).
@@ -653,6 +660,9 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
             return Err(usage(format!("--omega must be a finite number > 0 (got {w})")));
         }
     }
+    if !(args.feature_periods.is_finite() && args.feature_periods >= 0.0) {
+        return Err(usage(format!("--feature-periods must be a finite number >= 0 (got {})", args.feature_periods)));
+    }
     if args.quad_svg.is_some() && args.quad_mesh.is_none() {
         return Err(usage("--quad-svg needs --quad-mesh"));
     }
@@ -672,6 +682,7 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
         omega: args.omega,
         curl_correction: args.curl_correction,
         untangle: !args.no_untangle,
+        feature_periods: args.feature_periods,
         smoothing: symmetry.map(|symmetry| SmoothingOptions { symmetry, ..SmoothingOptions::default() }),
         ..PgpOptions::default()
     };
@@ -727,6 +738,7 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
             serde_json::json!({
                 "method": "pgp", "seconds": seconds, "vertices": mesh.vertex_count(), "triangles": mesh.triangle_count(),
                 "genus": genus, "omega": result.omega, "curl_correction": args.curl_correction,
+                "feature_periods": args.feature_periods,
                 "singular_vertices": s.vertices.len(), "singular_edges": s.edges.len(),
                 "singular_triangles": s.triangles.len(), "singular_triangle_fraction": q.singular_triangle_fraction,
                 "singular_points": points.len(), "index_sum": s.index_sum(),

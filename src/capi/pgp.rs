@@ -9,6 +9,7 @@ use super::{
 use crate::error::{Error, Result, UvfStatus};
 use crate::methods::pgp::charts::{chart_parameterization, ChartKind, ChartParameterization};
 use crate::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
+use crate::methods::pgp::density::DEFAULT_FEATURE_PERIODS;
 use crate::methods::pgp::quality::{quality, Quality};
 use crate::methods::pgp::smoothing::{SmoothingOptions, Symmetry};
 use crate::methods::pgp::solver::NewtonOptions;
@@ -183,6 +184,12 @@ pub struct UvfPgpOptions {
     /// transition kept (not in the paper; see the README). 0: Algorithm 1's output as it is.
     /// Added after `progress_user`: callers built before it get the default.
     pub untangle: u32,
+    /// Minimum number of periods around a curved feature (default 3): where a curvature radius
+    /// r holds fewer than this many periods ω r, the field is scaled up (at most 2.5×) so that
+    /// legs, horns and fingers narrower than a period get travelling waves rather than singular
+    /// standing ones (not in the paper; see the README). 0: the paper's single ω everywhere.
+    /// Added after `untangle`: callers built before it get the default.
+    pub feature_periods: f64,
 }
 
 impl Default for UvfPgpOptions {
@@ -205,6 +212,7 @@ impl Default for UvfPgpOptions {
             progress: None,
             progress_user: std::ptr::null_mut(),
             untangle: 1,
+            feature_periods: DEFAULT_FEATURE_PERIODS,
         }
     }
 }
@@ -294,6 +302,7 @@ fn pgp_options(o: &UvfPgpOptions, vertex_count: usize) -> Result<PgpOptions> {
         }),
         curl_correction: o.curl_correction != 0,
         untangle: o.untangle != 0,
+        feature_periods: o.feature_periods,
         newton,
     })
 }

@@ -1099,6 +1099,7 @@ def pgp(
     chart_layout: bool = False,
     charts: Optional[float] = None,
     untangle: bool = True,
+    feature_periods: float = 3.0,
 ) -> PgpResult:
     """Periodic Global Parameterization (Ray, Li, Lévy, Sheffer, Alliez 2006; ``uvf_pgp``) of a
     manifold mesh of any genus, without cutting: principal-curvature field (or ``field``, an
@@ -1112,6 +1113,10 @@ def pgp(
     nearly the same singularities). ``untangle=False`` keeps Algorithm 1's per-corner (θ, φ) as
     it is; by default the negative triangles next to singular points are made positive by
     moving vertex phases, every transition kept (not in the paper; see the README).
+    ``feature_periods`` is the minimum number of periods around a curved feature: where a
+    curvature radius r holds fewer (ω r < feature_periods) the frequency is raised there, at
+    most 2.5×, so that legs, horns and fingers narrower than a period are not singular standing
+    waves (not in the paper; see the README); 0 keeps the paper's single ω everywhere.
 
     ``quad_mesh`` (a whole number of iso-lines per period, e.g. 8) also returns the quad-dominant
     remesh of §5 (vertices on the surface, non-quads split into quads and triangles; quad sides
@@ -1129,6 +1134,7 @@ def pgp(
     options.smoothing = _code(smooth, _SMOOTHING, "smooth")
     options.curl_correction = 1 if curl_correction else 0
     options.untangle = 1 if untangle else 0
+    options.feature_periods = float(feature_periods)
     options.rho = float(rho)
     options.epsilon = float(epsilon)
     if isinstance(max_newton_iterations, bool) or int(max_newton_iterations) != max_newton_iterations:

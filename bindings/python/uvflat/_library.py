@@ -440,6 +440,7 @@ class UvfPgpOptions(Structure):
         ("progress", UvfProgressFn),
         ("progress_user", c_void_p),
         ("untangle", c_uint32),
+        ("feature_periods", c_double),
     ]
 
 

@@ -6,6 +6,8 @@
 //! - [`curvature`]: principal directions (Cohen-Steiner & Morvan 2003 normal-cycle tensor);
 //! - [`smoothing`]: vector field smoothing modulo 2π, π or π/2 (§4.2, eqs. 21–22);
 //! - [`curl`]: curl correction (§4.1, eqs. 17–20);
+//! - [`density`]: the field scaled up on curved features narrower than a few periods (not in
+//!   the paper; optional, on by default);
 //! - [`periodic`]: the periodic energy (§2.3–2.4, eqs. 13–15, Appendix B eq. 24);
 //! - [`solver`]: its minimization (§2.5: linear solve, then Newton on F** with the penalty);
 //! - [`extraction`]: per-triangle (θ, φ) at the corners (§3.1, Algorithm 1);
@@ -23,12 +25,13 @@
 //! - [`split`]: N-sided singular charts split into quads (§3.4).
 //!
 //! Pipeline of [`pgp`]: field (curvature directions or the caller's) → optional smoothing →
-//! optional curl correction → periodic solve → per-corner (θ, φ) → optional untangling →
+//! optional curl correction → optional feature-adaptive density → periodic solve → per-corner (θ, φ) → optional untangling →
 //! singularities.
 
 pub mod charts;
 pub mod curl;
 pub mod curvature;
+pub mod density;
 pub mod extraction;
 pub mod frames;
 pub mod isolines;
@@ -72,6 +75,11 @@ pub struct PgpOptions {
     pub smoothing: Option<SmoothingOptions>,
     /// Curl correction (§4.1).
     pub curl_correction: bool,
+    /// Minimum number of periods around a curved feature ([`density`], not in the paper): the
+    /// field is scaled by up to [`density::MAX_DENSITY`] where a curvature radius r gives fewer
+    /// than `feature_periods` periods ω r. Default [`density::DEFAULT_FEATURE_PERIODS`] = 3;
+    /// 0 keeps the paper's single ω everywhere.
+    pub feature_periods: f64,
     /// Untangle the per-corner (θ, φ) after Algorithm 1 ([`untangle`], not in the paper):
     /// negative triangles next to singular points made positive without changing any
     /// transition. Default true; false gives Algorithm 1's output as it is.
@@ -89,6 +97,7 @@ impl Default for PgpOptions {
             curvature: CurvatureOptions::default(),
             smoothing: Some(SmoothingOptions::default()),
             curl_correction: false,
+            feature_periods: density::DEFAULT_FEATURE_PERIODS,
             untangle: true,
             newton: NewtonOptions::default(),
         }
@@ -103,7 +112,7 @@ pub struct PgpResult {
     /// Singular elements and indices.
     pub singularities: Singularities,
     /// The field K used by the periodic solve, per vertex (after smoothing; times the
-    /// curl-correction scale when enabled).
+    /// curl-correction scale when enabled and the feature-adaptive density factor).
     pub field: Vec<[f64; 3]>,
     /// Unit vertex normals.
     pub normals: Vec<[f64; 3]>,
@@ -133,6 +142,12 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
         Some(w) if w.is_finite() && w > 0.0 => w,
         Some(w) => return Err(Error::InvalidArgument(format!("omega must be finite and > 0 (got {w})"))),
     };
+    if !(options.feature_periods.is_finite() && options.feature_periods >= 0.0) {
+        return Err(Error::InvalidArgument(format!(
+            "feature_periods must be finite and >= 0 (got {})",
+            options.feature_periods
+        )));
+    }
     progress.report(0.0)?;
     let curvatures = principal_curvatures(mesh, &options.curvature)?;
     let normals = curvatures.normal.clone();
@@ -153,12 +168,16 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
         let v = curl::curl_correction_scale(mesh, &normals, &field)?;
         field = field.iter().zip(&v).map(|(&k, &s)| scale(k, s)).collect();
     }
+    if options.feature_periods > 0.0 {
+        let s = density::density_scale(mesh, &curvatures.kmin, &curvatures.kmax, omega, options.feature_periods);
+        field = field.iter().zip(&s).map(|(&k, &s)| scale(k, s)).collect();
+    }
     progress.report(0.35)?;
     let (mut unknowns, solve) =
         periodic::periodic_solve(mesh, &normals, &field, omega, &options.newton, progress, (0.35, 0.95))?;
     let mut param = corner_parameterization(mesh, &normals, &field, &unknowns, omega);
     let untangled = if options.untangle {
-        untangle::untangle(mesh, &mut param, &mut unknowns, omega)
+        untangle::untangle(mesh, &mut param, &mut unknowns, &field, omega)
     } else {
         untangle::UntangleReport::untouched(&param)
     };

@@ -12,7 +12,9 @@
 //! paper's §3.4 re-parameterizes such places chart by chart and notes that fixing singular
 //! triangles locally is possible but delicate; this is that local fix, for the orientation.
 //!
-//! With `A*_T = 2 ω² area(T)` the doubled (θ, φ) area T would have under an isometric map, a
+//! With `A*_T = 2 ω² ‖K‖²_T area(T)` the doubled (θ, φ) area T would have if (θ, φ) followed
+//! the field exactly (‖K‖²_T the mean squared norm of the field at T's corners: 1 for the
+//! paper's unit field, other values after curl correction or [`super::density`]), a
 //! triangle that is not open is *tangled* when its doubled (θ, φ) area is below
 //! [`TANGLED_AREA`] · A*_T (negative, flat or nearly so). In sweeps over the vertices of the
 //! tangled triangles, each vertex moves to the point of its *kernel* nearest to the mean of
@@ -43,10 +45,10 @@ use crate::geometry::{cross, dot, norm, sub};
 use crate::TriMesh;
 use std::f64::consts::PI;
 
-/// Doubled (θ, φ) area below which a triangle is tangled, over the isometric one `2 ω² area`.
+/// Doubled (θ, φ) area below which a triangle is tangled, over the expected one `2 ω² ‖K‖² area`.
 pub const TANGLED_AREA: f64 = 0.05;
 
-/// Doubled (θ, φ) area a move gives a tangled triangle, over the isometric one.
+/// Doubled (θ, φ) area a move gives a tangled triangle, over the expected one.
 pub const REPAIRED_AREA: f64 = 0.1;
 
 /// What the untangling did.
@@ -70,14 +72,15 @@ impl UntangleReport {
 
 /// Untangles `param` in place (module comment) and turns the phases of `unknowns` by the same
 /// amounts (norms kept), so that `param`'s corners are still `P^ρ (θ_v, φ_v) + 2π (s, t)` with
-/// the same integers.
+/// the same integers. `field` is the field K of the periodic solve (only its norms are used).
 pub fn untangle(
     mesh: &TriMesh,
     param: &mut CornerParameterization,
     unknowns: &mut [[f64; 4]],
+    field: &[[f64; 3]],
     omega: f64,
 ) -> UntangleReport {
-    let isometric: Vec<f64> = mesh.geometry().area.iter().map(|a| 2.0 * omega * omega * a).collect();
+    let isometric = expected_areas(mesh, field, omega);
     let negative_before = negative_count(param);
     let mut moves = vec![[0.0f64; 2]; mesh.vertex_count()];
     let bound = tangled_triangles(param, &isometric).len();
@@ -107,6 +110,16 @@ pub fn untangle(
 /// Triangles that are not open with a non-positive (θ, φ) area.
 fn negative_count(param: &CornerParameterization) -> usize {
     (0..param.coords.len()).filter(|&t| !param.open[t] && signed_area2(&param.coords[t]) <= 0.0).count()
+}
+
+/// `2 ω² ‖K‖²_T area(T)` per triangle (module comment).
+fn expected_areas(mesh: &TriMesh, field: &[[f64; 3]], omega: f64) -> Vec<f64> {
+    let squared = |v: u32| dot(field[v as usize], field[v as usize]);
+    mesh.triangles()
+        .iter()
+        .zip(&mesh.geometry().area)
+        .map(|(t, a)| 2.0 * omega * omega * a * t.iter().map(|&v| squared(v)).sum::<f64>() / 3.0)
+        .collect()
 }
 
 fn is_tangled(param: &CornerParameterization, isometric: &[f64], t: usize) -> bool {
@@ -320,7 +333,7 @@ mod tests {
             apply_move(&mesh, &mut param, v, d);
             unknowns[v as usize] = turn_phases(unknowns[v as usize], d);
             let before = param.clone();
-            let report = untangle(&mesh, &mut param, &mut unknowns, 1.0);
+            let report = untangle(&mesh, &mut param, &mut unknowns, &unit_field(&mesh), 1.0);
             assert!(report.negative_before >= 2 && report.negative_after == 0, "r = {r}: {report:?}");
             assert!(report.moved_vertices >= 1, "r = {r}");
             assert_eq!((param.rotation.clone(), param.shift.clone()), (before.rotation, before.shift));
@@ -340,17 +353,36 @@ mod tests {
         }
     }
 
+    fn unit_field(mesh: &TriMesh) -> Vec<[f64; 3]> {
+        vec![[1.0, 0.0, 0.0]; mesh.vertex_count()]
+    }
+
+    #[test]
+    fn the_expected_area_follows_the_field_norm_and_omega() {
+        let (mesh, _, _) = grid(2, 0, 0);
+        let unit = expected_areas(&mesh, &unit_field(&mesh), 1.0);
+        assert!(unit.iter().all(|&a| (a - 1.0).abs() < 1e-12), "{unit:?}"); // 2 · ½
+                                                                            // K of norm 2 at one corner of a triangle: mean squared norm (4 + 1 + 1) / 3 = 2.
+        let mut field = unit_field(&mesh);
+        field[0] = [0.0, 2.0, 0.0];
+        let scaled = expected_areas(&mesh, &field, 3.0);
+        for (t, tri) in mesh.triangles().iter().enumerate() {
+            let want = if tri.contains(&0) { 9.0 * 2.0 } else { 9.0 };
+            assert!((scaled[t] - want).abs() < 1e-12, "triangle {t}: {} != {want}", scaled[t]);
+        }
+    }
+
     #[test]
     fn open_triangles_and_untangled_ones_are_left_alone() {
         let (mesh, mut param, mut unknowns) = grid(3, 5, 0);
         let before = param.clone();
-        let report = untangle(&mesh, &mut param, &mut unknowns, 1.0);
+        let report = untangle(&mesh, &mut param, &mut unknowns, &unit_field(&mesh), 1.0);
         assert_eq!(report, UntangleReport::default());
         assert_eq!(param, before);
         // A flipped triangle that is open is singular whatever its orientation: not repaired.
         param.coords[0].swap(1, 2);
         param.open[0] = true;
-        let report = untangle(&mesh, &mut param, &mut unknowns, 1.0);
+        let report = untangle(&mesh, &mut param, &mut unknowns, &unit_field(&mesh), 1.0);
         assert_eq!(report.moved_vertices, 0);
         assert!(signed_area2(&param.coords[0]) < 0.0);
     }
