@@ -213,7 +213,7 @@ fn check_mesh(name: &str, mesh: &TriMesh, density: f64) -> String {
         rep.mean_value,
         rep.split_quads,
         rep.atlas,
-        100.0 * quads,
+        100.0 * quads + 0.0, // + 0.0 turns -0.0 into 0.0 (no "-0.0%")
         rep.shared_edges,
         rep.inner_discontinuous,
     )
