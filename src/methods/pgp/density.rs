@@ -109,7 +109,7 @@ mod tests {
         assert!(s.iter().all(|&x| (x - MAX_DENSITY).abs() < 1e-12), "{s:?}");
         // c κ / ω = 3 × 0.5 / 1 = 1.5 everywhere: exactly that factor.
         let half = vec![-0.5; 10];
-        let s = density_scale(&mesh, &half, &vec![0.2; 10], 1.0, 3.0);
+        let s = density_scale(&mesh, &half, &[0.2; 10], 1.0, 3.0);
         assert!(s.iter().all(|&x| (x - 1.5).abs() < 1e-12), "{s:?}");
     }
 

@@ -25,8 +25,8 @@
 //! - [`split`]: N-sided singular charts split into quads (§3.4).
 //!
 //! Pipeline of [`pgp`]: field (curvature directions or the caller's) → optional smoothing →
-//! optional curl correction → optional feature-adaptive density → periodic solve → per-corner (θ, φ) → optional untangling →
-//! singularities.
+//! optional curl correction → optional feature-adaptive density → periodic solve → per-corner
+//! (θ, φ) → optional untangling → singularities.
 
 pub mod charts;
 pub mod curl;
