@@ -18,12 +18,12 @@
 //! then averaged over the one-ring [`SMOOTHING_ROUNDS`] times (a scale that varies from vertex
 //! to vertex adds curl, ∇ log s × K, which the solve would pay for with singular points) and
 //! clamped below by 1 again, so that s never lowers the paper's frequency. With curl correction
-//! (§4.1) the field's scale is v s: where s is constant (a tube of constant radius, the parametric
-//! torus) v's curl-free field is kept. Taking max(v, s) instead was measured and dropped: it
-//! overrides v wherever s > v (the mesh torus `closed_g1_torus` then keeps a pair of singular
-//! points, cow 2.81 → 3.10%). On a surface whose
-//! curvature radii are all above c/ω (the parametric torus of `tests/pgp.rs`, the flat disk)
-//! s ≡ 1 and the result is the paper's. Like curl correction, this makes the parameterization
+//! (§4.1) the field's scale is v s: where s is constant (a tube of constant radius) v's
+//! curl-free field is kept. Taking max(v, s) instead was measured and dropped: it overrides v
+//! wherever s > v (the mesh torus `closed_g1_torus` then keeps a pair of singular points, cow
+//! 0.3 points more). On a flat surface, or one whose curvature radii are all above c/ω, s ≡ 1
+//! and the result is the paper's; on a tube of constant radius (the tori) s is constant, the
+//! paper's result at a higher ω. Like curl correction, this makes the parameterization
 //! conformal rather than isometric where s varies.
 //!
 //! Measured (README "Feature-adaptive density", `scripts/pgp_quality.sh`): c = 3 takes cow from
