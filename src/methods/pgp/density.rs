@@ -47,9 +47,8 @@ pub const DEFAULT_FEATURE_PERIODS: f64 = 3.0;
 /// The density factor s ≥ 1 of every vertex (module comment) from the principal curvatures
 /// `kmin`, `kmax`, for frequency `omega` and `feature_periods` = c. c = 0 gives s ≡ 1.
 pub fn density_scale(mesh: &TriMesh, kmin: &[f64], kmax: &[f64], omega: f64, feature_periods: f64) -> Vec<f64> {
-    let wanted: Vec<f64> =
+    let mut s: Vec<f64> =
         kmin.iter().zip(kmax).map(|(a, b)| (feature_periods * a.abs().max(b.abs()) / omega).min(MAX_DENSITY)).collect();
-    let mut s = wanted;
     for _ in 0..SMOOTHING_ROUNDS {
         s = one_ring_average(mesh, &s);
     }

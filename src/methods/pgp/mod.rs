@@ -166,11 +166,11 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
     };
     if options.curl_correction {
         let v = curl::curl_correction_scale(mesh, &normals, &field)?;
-        field = field.iter().zip(&v).map(|(&k, &s)| scale(k, s)).collect();
+        field = scaled_field(&field, &v);
     }
     if options.feature_periods > 0.0 {
         let s = density::density_scale(mesh, &curvatures.kmin, &curvatures.kmax, omega, options.feature_periods);
-        field = field.iter().zip(&s).map(|(&k, &s)| scale(k, s)).collect();
+        field = scaled_field(&field, &s);
     }
     progress.report(0.35)?;
     let (mut unknowns, solve) =
@@ -184,6 +184,11 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
     let singularities = find_singularities(mesh, &param);
     progress.report(1.0)?;
     Ok(PgpResult { param, singularities, field, normals, omega, unknowns, solve, smoothing, untangled })
+}
+
+/// `field` with each vertex's vector times its factor in `factors`.
+fn scaled_field(field: &[[f64; 3]], factors: &[f64]) -> Vec<[f64; 3]> {
+    field.iter().zip(factors).map(|(&k, &s)| scale(k, s)).collect()
 }
 
 /// The caller's field projected on the tangent planes and normalized; errors name the first

@@ -83,14 +83,14 @@ pub fn untangle(
     field: &[[f64; 3]],
     omega: f64,
 ) -> UntangleReport {
-    let isometric = expected_areas(mesh, field, omega);
+    let expected = expected_areas(mesh, field, omega);
     let negative_before = negative_count(param);
     let mut moves = vec![[0.0f64; 2]; mesh.vertex_count()];
-    let bound = tangled_triangles(param, &isometric).len();
+    let bound = tangled_triangles(param, &expected).len();
     for _ in 0..bound {
         let mut changed = false;
-        for v in tangled_vertices(mesh, param, &isometric) {
-            if let Some(d) = kernel_move(mesh, param, &isometric, v) {
+        for v in tangled_vertices(mesh, param, &expected) {
+            if let Some(d) = kernel_move(mesh, param, &expected, v) {
                 apply_move(mesh, param, v, d);
                 moves[v as usize] = [moves[v as usize][0] + d[0], moves[v as usize][1] + d[1]];
                 changed = true;
@@ -126,17 +126,17 @@ fn expected_areas(mesh: &TriMesh, field: &[[f64; 3]], omega: f64) -> Vec<f64> {
         .collect()
 }
 
-fn is_tangled(param: &CornerParameterization, isometric: &[f64], t: usize) -> bool {
-    !param.open[t] && signed_area2(&param.coords[t]) <= TANGLED_AREA * isometric[t]
+fn is_tangled(param: &CornerParameterization, expected: &[f64], t: usize) -> bool {
+    !param.open[t] && signed_area2(&param.coords[t]) <= TANGLED_AREA * expected[t]
 }
 
-fn tangled_triangles(param: &CornerParameterization, isometric: &[f64]) -> Vec<usize> {
-    (0..param.coords.len()).filter(|&t| is_tangled(param, isometric, t)).collect()
+fn tangled_triangles(param: &CornerParameterization, expected: &[f64]) -> Vec<usize> {
+    (0..param.coords.len()).filter(|&t| is_tangled(param, expected, t)).collect()
 }
 
 /// The vertices of the tangled triangles, ascending, without repeats.
-fn tangled_vertices(mesh: &TriMesh, param: &CornerParameterization, isometric: &[f64]) -> Vec<u32> {
-    let mut v: Vec<u32> = tangled_triangles(param, isometric).iter().flat_map(|&t| mesh.triangles()[t]).collect();
+fn tangled_vertices(mesh: &TriMesh, param: &CornerParameterization, expected: &[f64]) -> Vec<u32> {
+    let mut v: Vec<u32> = tangled_triangles(param, expected).iter().flat_map(|&t| mesh.triangles()[t]).collect();
     v.sort_unstable();
     v.dedup();
     v
@@ -159,7 +159,7 @@ fn cross2(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// Half-plane `g · Δ ≥ h` in the move Δ of corner (t, k)'s vertex that keeps triangle t's
 /// doubled area at the required value (module comment); `None` when t is open or its side
 /// opposite the corner has no length.
-fn area_constraint(param: &CornerParameterization, isometric: &[f64], t: usize, k: usize) -> Option<([f64; 2], f64)> {
+fn area_constraint(param: &CornerParameterization, expected: &[f64], t: usize, k: usize) -> Option<([f64; 2], f64)> {
     if param.open[t] {
         return None;
     }
@@ -173,16 +173,16 @@ fn area_constraint(param: &CornerParameterization, isometric: &[f64], t: usize, 
     let r = param.rotation[t][k];
     let g = [cross2(n, rotate(r, [1.0, 0.0])), cross2(n, rotate(r, [0.0, 1.0]))];
     let now = cross2(n, [c[0] - a[0], c[1] - a[1]]);
-    let repaired = REPAIRED_AREA * isometric[t];
-    let wanted = if is_tangled(param, isometric, t) { repaired } else { now.min(repaired) };
+    let repaired = REPAIRED_AREA * expected[t];
+    let wanted = if is_tangled(param, expected, t) { repaired } else { now.min(repaired) };
     Some((g, wanted - now))
 }
 
 /// The move of v into its kernel (module comment), when v has a violated constraint and the
 /// kernel is not empty.
-fn kernel_move(mesh: &TriMesh, param: &CornerParameterization, isometric: &[f64], v: u32) -> Option<[f64; 2]> {
+fn kernel_move(mesh: &TriMesh, param: &CornerParameterization, expected: &[f64], v: u32) -> Option<[f64; 2]> {
     let constraints: Vec<([f64; 2], f64)> =
-        corners_at(mesh, v).filter_map(|(t, k)| area_constraint(param, isometric, t, k)).collect();
+        corners_at(mesh, v).filter_map(|(t, k)| area_constraint(param, expected, t, k)).collect();
     if constraints.iter().all(|&(_, h)| h <= 0.0) {
         return None;
     }
@@ -365,8 +365,9 @@ mod tests {
     fn the_expected_area_follows_the_field_norm_and_omega() {
         let (mesh, _, _) = grid(2, 0, 0);
         let unit = expected_areas(&mesh, &unit_field(&mesh), 1.0);
-        assert!(unit.iter().all(|&a| (a - 1.0).abs() < 1e-12), "{unit:?}"); // 2 · ½
-                                                                            // K of norm ½ at vertex 0: (¼ + 1 + 1) / 3 = ¾ of the area; of norm 2 at vertex 8: capped at 1.
+        // A unit field: 2 ω² area = 2 · ½ for every half unit square.
+        assert!(unit.iter().all(|&a| (a - 1.0).abs() < 1e-12), "{unit:?}");
+        // K of norm ½ at vertex 0: (¼ + 1 + 1) / 3 = ¾ of the area; of norm 2 at vertex 8: capped at 1.
         let mut field = unit_field(&mesh);
         field[0] = [0.0, 0.5, 0.0];
         field[8] = [0.0, 2.0, 0.0];
