@@ -55,6 +55,9 @@ fn main() {
     if let Ok(c) = std::env::var("FEATURE_PERIODS") {
         opts.feature_periods = c.parse().expect("FEATURE_PERIODS is a number");
     }
+    if let Ok(c) = std::env::var("PAIRS") {
+        opts.pair_periods = c.parse().expect("PAIRS is a number");
+    }
     opts.curvature = CurvatureOptions { neighbourhood: Neighbourhood::Rings(rings) };
     if let Ok(f) = std::env::var("RADIUS") {
         opts.curvature = CurvatureOptions { neighbourhood: Neighbourhood::Radius(f.parse::<f64>().unwrap() * l) };
@@ -116,6 +119,7 @@ fn main() {
     let r = pgp(&mesh, &opts, &mut Progress::none()).unwrap();
     let secs = start.elapsed().as_secs_f64();
     println!("  untangled: {:?}", r.untangled);
+    println!("  pairs: {:?}", r.pairs);
     let smooth = face_field_indices(&mesh, &face_directions(&mesh, &r.normals, &r.field, Symmetry::Cross), 4);
     let q = quality(&mesh, &r.param, &r.singularities, &r.normals, &r.field, r.omega).unwrap();
     let s = &r.singularities;

@@ -1267,6 +1267,13 @@ typedef struct UvfPgpOptions {
    * Added after `untangle`: callers built before it get the default.
    */
   double feature_periods;
+  /**
+   * Cancel the ± quarter singularities of the smoothed cross field closer than this many
+   * periods (2π/ω) to each other, re-solving the field around them (default 0.5; not in the
+   * paper, see the README). 0: keep the smoothed field's singularities. Added after
+   * `feature_periods`: callers built before it get the default.
+   */
+  double pair_periods;
 } UvfPgpOptions;
 
 /**

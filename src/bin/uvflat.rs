@@ -94,6 +94,12 @@ struct PgpArgs {
     /// paper, see the README). 0: the paper's single omega everywhere.
     #[arg(long = "feature-periods", default_value_t = uvflat::methods::pgp::density::DEFAULT_FEATURE_PERIODS)]
     feature_periods: f64,
+    /// Cancel the +1/4 and -1/4 singularities of the smoothed cross field that lie closer than
+    /// P periods (2pi/omega) to each other, re-solving the field around them (not in the paper,
+    /// see the README): on coarse meshes most such pairs only add singular triangles. 0: keep
+    /// the smoothed field's singularities.
+    #[arg(long = "pair-periods", default_value_t = uvflat::methods::pgp::pairs::DEFAULT_PAIR_PERIODS)]
+    pair_periods: f64,
     /// Field smoothing (§4.2): directions equal modulo 2pi, pi or pi/2, or none.
     #[arg(long, value_enum, default_value_t = SmoothName::HalfPi)]
     smooth: SmoothName,
@@ -663,6 +669,9 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
     if !(args.feature_periods.is_finite() && args.feature_periods >= 0.0) {
         return Err(usage(format!("--feature-periods must be a finite number >= 0 (got {})", args.feature_periods)));
     }
+    if !(args.pair_periods.is_finite() && args.pair_periods >= 0.0) {
+        return Err(usage(format!("--pair-periods must be a finite number >= 0 (got {})", args.pair_periods)));
+    }
     if args.quad_svg.is_some() && args.quad_mesh.is_none() {
         return Err(usage("--quad-svg needs --quad-mesh"));
     }
@@ -683,6 +692,7 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
         curl_correction: args.curl_correction,
         untangle: !args.no_untangle,
         feature_periods: args.feature_periods,
+        pair_periods: args.pair_periods,
         smoothing: symmetry.map(|symmetry| SmoothingOptions { symmetry, ..SmoothingOptions::default() }),
         ..PgpOptions::default()
     };
@@ -738,7 +748,12 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
             serde_json::json!({
                 "method": "pgp", "seconds": seconds, "vertices": mesh.vertex_count(), "triangles": mesh.triangle_count(),
                 "genus": genus, "omega": result.omega, "curl_correction": args.curl_correction,
-                "feature_periods": args.feature_periods,
+                "feature_periods": args.feature_periods, "pair_periods": args.pair_periods,
+                "pairs": serde_json::json!({
+                    "field_singular_before": result.pairs.singular_before,
+                    "field_singular_after": result.pairs.singular_after,
+                    "cancelled": result.pairs.pairs, "trials": result.pairs.trials,
+                }),
                 "singular_vertices": s.vertices.len(), "singular_edges": s.edges.len(),
                 "singular_triangles": s.triangles.len(), "singular_triangle_fraction": q.singular_triangle_fraction,
                 "singular_points": points.len(), "index_sum": s.index_sum(),

@@ -10,6 +10,7 @@ use crate::error::{Error, Result, UvfStatus};
 use crate::methods::pgp::charts::{chart_parameterization, ChartKind, ChartParameterization};
 use crate::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
 use crate::methods::pgp::density::DEFAULT_FEATURE_PERIODS;
+use crate::methods::pgp::pairs::DEFAULT_PAIR_PERIODS;
 use crate::methods::pgp::quality::{quality, Quality};
 use crate::methods::pgp::smoothing::{SmoothingOptions, Symmetry};
 use crate::methods::pgp::solver::NewtonOptions;
@@ -190,6 +191,11 @@ pub struct UvfPgpOptions {
     /// standing ones (not in the paper; see the README). 0: the paper's single ω everywhere.
     /// Added after `untangle`: callers built before it get the default.
     pub feature_periods: f64,
+    /// Cancel the ± quarter singularities of the smoothed cross field closer than this many
+    /// periods (2π/ω) to each other, re-solving the field around them (default 0.5; not in the
+    /// paper, see the README). 0: keep the smoothed field's singularities. Added after
+    /// `feature_periods`: callers built before it get the default.
+    pub pair_periods: f64,
 }
 
 impl Default for UvfPgpOptions {
@@ -213,6 +219,7 @@ impl Default for UvfPgpOptions {
             progress_user: std::ptr::null_mut(),
             untangle: 1,
             feature_periods: DEFAULT_FEATURE_PERIODS,
+            pair_periods: DEFAULT_PAIR_PERIODS,
         }
     }
 }
@@ -303,6 +310,7 @@ fn pgp_options(o: &UvfPgpOptions, vertex_count: usize) -> Result<PgpOptions> {
         curl_correction: o.curl_correction != 0,
         untangle: o.untangle != 0,
         feature_periods: o.feature_periods,
+        pair_periods: o.pair_periods,
         newton,
     })
 }

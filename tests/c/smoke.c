@@ -535,7 +535,7 @@ static void check_pgp(void) {
     uvf_pgp_options_default(&options);
     check(options.struct_size == sizeof options && options.smoothing == UVF_SMOOTH_HALF_PI && options.omega == 0.0 &&
               options.epsilon == 0.1 && options.max_newton_iterations == 100 && options.rho == 0.8 &&
-              options.untangle == 1 && options.feature_periods == 3.0,
+              options.untangle == 1 && options.feature_periods == 3.0 && options.pair_periods == 0.5,
           "pgp defaults");
     status = uvf_pgp(pos, nv, tris, nt, &options, corners, &pgp);
     check(status == UVF_OK && pgp != NULL, "pgp of a torus");
@@ -675,6 +675,16 @@ static void check_pgp(void) {
           "a negative feature_periods is refused, naming it");
     options.feature_periods = 0.0;
     check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_OK, "pgp with the paper's single omega");
+    options.pair_periods = NAN;
+    status = uvf_pgp(pos, nv, tris, nt, &options, corners, NULL);
+    check(status == UVF_INVALID_ARGUMENT && strstr(uvf_last_error_message(), "pair_periods") != NULL,
+          "a NaN pair_periods is refused, naming it");
+    options.pair_periods = 0.0;
+    check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_OK, "pgp without pair cancellation");
+    /* Callers built before `pair_periods` existed (third version) get its default. */
+    options.pair_periods = -1.0;
+    options.struct_size = offsetof(UvfPgpOptions, pair_periods);
+    check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_OK, "third-version pgp options are accepted");
     /* Callers built before `feature_periods` existed (second version) get its default. */
     options.feature_periods = -1.0;
     options.struct_size = offsetof(UvfPgpOptions, feature_periods);

@@ -1100,6 +1100,7 @@ def pgp(
     charts: Optional[float] = None,
     untangle: bool = True,
     feature_periods: float = 3.0,
+    pair_periods: float = 0.5,
 ) -> PgpResult:
     """Periodic Global Parameterization (Ray, Li, Lévy, Sheffer, Alliez 2006; ``uvf_pgp``) of a
     manifold mesh of any genus, without cutting: principal-curvature field (or ``field``, an
@@ -1117,6 +1118,9 @@ def pgp(
     curvature radius r holds fewer (ω r < feature_periods) the frequency is raised there, at
     most 2.5×, so that legs, horns and fingers narrower than a period are not singular standing
     waves (not in the paper; see the README); 0 keeps the paper's single ω everywhere.
+    ``pair_periods``: the +¼ and −¼ singularities of the smoothed cross field closer than this
+    many periods (2π/ω) are cancelled together and the field re-solved around them (not in the
+    paper; see the README); 0 keeps the smoothed field's singularities.
 
     ``quad_mesh`` (a whole number of iso-lines per period, e.g. 8) also returns the quad-dominant
     remesh of §5 (vertices on the surface, non-quads split into quads and triangles; quad sides
@@ -1135,6 +1139,7 @@ def pgp(
     options.curl_correction = 1 if curl_correction else 0
     options.untangle = 1 if untangle else 0
     options.feature_periods = float(feature_periods)
+    options.pair_periods = float(pair_periods)
     options.rho = float(rho)
     options.epsilon = float(epsilon)
     if isinstance(max_newton_iterations, bool) or int(max_newton_iterations) != max_newton_iterations:

@@ -441,6 +441,7 @@ class UvfPgpOptions(Structure):
         ("progress_user", c_void_p),
         ("untangle", c_uint32),
         ("feature_periods", c_double),
+        ("pair_periods", c_double),
     ]
 
 

@@ -37,7 +37,7 @@ use super::PgpResult;
 use crate::atlas::AtlasOptions;
 use crate::boundary::{BoundaryShape, Distribution};
 use crate::error::Result;
-use crate::geometry::distance;
+use crate::geometry::{distance, dot, norm, sub};
 use crate::mesh::connectivity::next;
 use crate::mesh::topology::{find, set_labels};
 use crate::mesh::{TriMesh, NONE};
@@ -250,8 +250,40 @@ impl Context<'_> {
     }
 
     /// The chart cut and flattened by [`crate::atlas::atlas`], scaled to cells (ω × density / 2π
-    /// cells per unit length); `None` when the atlas fails.
+    /// cells per unit length); `None` when the atlas fails. Zero-area cut triangles (a line
+    /// through a vertex: no flattening of them is valid, and the atlas refuses them) are left
+    /// out of the atlas and laid out on their own, on a segment, one chart each.
     fn flatten_by_atlas(&self, members: &[u32]) -> Option<ChartOutput> {
+        let (degenerate, flat): (Vec<u32>, Vec<u32>) = members.iter().partition(|&&r| {
+            let [a, b, c] = self.cut.triangles()[r as usize].map(|v| self.cut.points()[v as usize]);
+            crate::mesh::validate::is_degenerate(crate::mesh::validate::relative_area(a, b, c))
+        });
+        let mut out = if flat.is_empty() { ChartOutput::default() } else { self.atlas_charts(&flat)? };
+        let k = self.scale * self.result.omega;
+        for r in degenerate {
+            let [a, b, c] = self.cut.triangles()[r as usize].map(|v| self.cut.points()[v as usize]);
+            let (e, f) = (sub(b, a), sub(c, a));
+            let length = norm(e);
+            let along = if length > 0.0 { dot(e, f) / length } else { norm(f) };
+            let (uv, size) = to_origin(vec![[[0.0, 0.0], [k * length, 0.0], [k * along, 0.0]]]);
+            out.chart.push(out.charts.len() as u32);
+            out.charts.push(Chart {
+                kind: ChartKind::Atlas,
+                corners: 0,
+                singular: true,
+                size,
+                sides: Vec::new(),
+                layout: 0,
+            });
+            out.triangles.push(self.cut.triangles()[r as usize]);
+            out.source.push(r);
+            out.uv.extend(uv);
+        }
+        Some(out)
+    }
+
+    /// [`Self::flatten_by_atlas`] on non-degenerate triangles.
+    fn atlas_charts(&self, members: &[u32]) -> Option<ChartOutput> {
         let tris: Vec<[u32; 3]> = members.iter().map(|&r| self.cut.triangles()[r as usize]).collect();
         let (local_mesh, _) = local_mesh(&tris, &|v| self.cut.points()[v as usize])?;
         // A sliver of the cut (a line through a vertex) cannot meet the default stretch bound

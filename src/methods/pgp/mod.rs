@@ -36,6 +36,7 @@ pub mod extraction;
 pub mod frames;
 pub mod isolines;
 pub mod layout;
+pub mod pairs;
 pub mod periodic;
 pub mod quality;
 pub mod refine;
@@ -80,6 +81,10 @@ pub struct PgpOptions {
     /// than `feature_periods` periods ω r. Default [`density::DEFAULT_FEATURE_PERIODS`] = 3;
     /// 0 keeps the paper's single ω everywhere.
     pub feature_periods: f64,
+    /// Singularity-pair cancellation ([`pairs`], not in the paper): ± quarter singularities of
+    /// the smoothed field closer than `pair_periods` periods (2π/ω) are removed together.
+    /// Default [`pairs::DEFAULT_PAIR_PERIODS`]; 0 keeps the smoothed field's singularities.
+    pub pair_periods: f64,
     /// Untangle the per-corner (θ, φ) after Algorithm 1 ([`untangle`], not in the paper):
     /// negative triangles next to singular points made positive without changing any
     /// transition. Default true; false gives Algorithm 1's output as it is.
@@ -98,6 +103,7 @@ impl Default for PgpOptions {
             smoothing: Some(SmoothingOptions::default()),
             curl_correction: false,
             feature_periods: density::DEFAULT_FEATURE_PERIODS,
+            pair_periods: pairs::DEFAULT_PAIR_PERIODS,
             untangle: true,
             newton: NewtonOptions::default(),
         }
@@ -127,6 +133,8 @@ pub struct PgpResult {
     pub smoothing: Option<SolveReport>,
     /// What the untangling of the per-corner (θ, φ) did ([`untangle`]).
     pub untangled: untangle::UntangleReport,
+    /// What the singularity-pair cancellation did ([`pairs`]).
+    pub pairs: pairs::PairReport,
 }
 
 /// ω = 2π / (10 × mean edge length) (see [`EDGES_PER_PERIOD`]).
@@ -148,6 +156,12 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
             options.feature_periods
         )));
     }
+    if !(options.pair_periods.is_finite() && options.pair_periods >= 0.0) {
+        return Err(Error::InvalidArgument(format!(
+            "pair_periods must be finite and >= 0 (got {})",
+            options.pair_periods
+        )));
+    }
     progress.report(0.0)?;
     let curvatures = principal_curvatures(mesh, &options.curvature)?;
     let normals = curvatures.normal.clone();
@@ -163,6 +177,14 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
             Some(report)
         }
         None => None,
+    };
+    let pairs = if options.pair_periods > 0.0 {
+        let distance = options.pair_periods * std::f64::consts::TAU / omega;
+        let (cancelled, report) = pairs::cancel_singularity_pairs(mesh, &normals, &field, distance, omega)?;
+        field = cancelled;
+        report
+    } else {
+        pairs::PairReport::default()
     };
     if options.curl_correction {
         let v = curl::curl_correction_scale(mesh, &normals, &field)?;
@@ -183,7 +205,7 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
     };
     let singularities = find_singularities(mesh, &param);
     progress.report(1.0)?;
-    Ok(PgpResult { param, singularities, field, normals, omega, unknowns, solve, smoothing, untangled })
+    Ok(PgpResult { param, singularities, field, normals, omega, unknowns, solve, smoothing, untangled, pairs })
 }
 
 /// `field` with each vertex's vector times its factor in `factors`.
