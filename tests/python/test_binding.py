@@ -1009,7 +1009,8 @@ def test_pgp_untangling_repairs_negative_triangles_and_can_be_turned_off(tmp_pat
 def test_pgp_feature_adaptive_density_and_the_papers_single_omega_agree_with_the_cli(tmp_path):
     # feature_periods (default 3, not in Ray et al. 2006) raises the frequency on features whose
     # curvature radius holds fewer than 3 periods: on cow (legs, horns) the singular triangles
-    # fall from 10.4% to 2.5% (README); feature_periods=0 is the paper's single omega.
+    # fell from 10.4% to 2.5% (README; now 5.5% and 1.2% with the singularity-pair cancellation);
+    # feature_periods=0 is the paper's single omega.
     name = "closed_g0_cow.obj"
     p, t = load_mesh(name)
     single = uvflat.pgp(p, t, feature_periods=0)

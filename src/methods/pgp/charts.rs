@@ -169,6 +169,11 @@ impl ChartOutput {
     }
 }
 
+/// A chart flattened by the atlas (no corners, no quad structure) of the given extent.
+fn atlas_chart(size: [f64; 2]) -> Chart {
+    Chart { kind: ChartKind::Atlas, corners: 0, singular: true, size, sides: Vec::new(), layout: 0 }
+}
+
 /// Charts as connected sets of cut triangles: union over every edge that is not a chart
 /// boundary. Returns the label of every triangle and the count.
 fn regions(cut: &TriMesh, refined: &RefinedMesh) -> (Vec<u32>, usize) {
@@ -267,14 +272,7 @@ impl Context<'_> {
             let along = if length > 0.0 { dot(e, f) / length } else { norm(f) };
             let (uv, size) = to_origin(vec![[[0.0, 0.0], [k * length, 0.0], [k * along, 0.0]]]);
             out.chart.push(out.charts.len() as u32);
-            out.charts.push(Chart {
-                kind: ChartKind::Atlas,
-                corners: 0,
-                singular: true,
-                size,
-                sides: Vec::new(),
-                layout: 0,
-            });
+            out.charts.push(atlas_chart(size));
             out.triangles.push(self.cut.triangles()[r as usize]);
             out.source.push(r);
             out.uv.extend(uv);
@@ -310,14 +308,7 @@ impl Context<'_> {
             let uv: Vec<[[f64; 2]; 3]> =
                 mine.iter().map(|&i| atlas.triangles[i].map(|v| atlas.uv[v as usize].map(|x| x * k))).collect();
             let (uv, size) = to_origin(uv);
-            out.charts.push(Chart {
-                kind: ChartKind::Atlas,
-                corners: 0,
-                singular: true,
-                size,
-                sides: Vec::new(),
-                layout: 0,
-            });
+            out.charts.push(atlas_chart(size));
             for (&i, q) in mine.iter().zip(uv) {
                 out.triangles.push(tris[i]);
                 out.source.push(members[i]);
