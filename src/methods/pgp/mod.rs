@@ -5,6 +5,8 @@
 //!
 //! - [`curvature`]: principal directions (Cohen-Steiner & Morvan 2003 normal-cycle tensor);
 //! - [`smoothing`]: vector field smoothing modulo 2π, π or π/2 (§4.2, eqs. 21–22);
+//! - [`pairs`]: ± quarter singularities of the smoothed field closer than half a period
+//!   cancelled together (not in the paper; optional, on by default);
 //! - [`curl`]: curl correction (§4.1, eqs. 17–20);
 //! - [`density`]: the field scaled up on curved features narrower than a few periods (not in
 //!   the paper; optional, on by default);
@@ -25,7 +27,7 @@
 //! - [`split`]: N-sided singular charts split into quads (§3.4).
 //!
 //! Pipeline of [`pgp`]: field (curvature directions or the caller's) → optional smoothing →
-//! optional curl correction → optional feature-adaptive density → periodic solve → per-corner
+//! optional singularity-pair cancellation → optional curl correction → optional feature-adaptive density → periodic solve → per-corner
 //! (θ, φ) → optional untangling → singularities.
 
 pub mod charts;
