@@ -1048,7 +1048,7 @@ def test_pgp_pair_cancellation_and_the_kept_field_singularities_agree_with_the_c
             assert pairs["cancelled"] > 0 and pairs["field_singular_after"] < pairs["field_singular_before"]
     with pytest.raises(uvflat.InvalidArgument, match="pair_periods"):
         uvflat.pgp(p, t, pair_periods=float("nan"))
-    bad = run_cli("pgp", str(mesh_path(name)), "-o", str(out), "--pair-periods", "-1", check=False)
+    bad = run_cli("pgp", str(mesh_path(name)), "-o", str(out), "--pair-periods=-1", check=False)
     assert bad.returncode != 0 and "--pair-periods" in bad.stderr
 
 
