@@ -29,6 +29,10 @@
 //! assert_eq!(uv.len(), 4);
 //! ```
 
+// The library never prints: callers see progress through `Progress` and failures through
+// `Error` (a leftover diagnostic print was found and removed once; clippy now refuses them).
+#![deny(clippy::print_stdout, clippy::print_stderr)]
+
 pub mod atlas;
 pub mod boundary;
 pub mod capi;

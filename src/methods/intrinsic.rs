@@ -133,11 +133,6 @@ impl BoundaryEditor {
             .map(|&(r, j, w)| (inverse_order[r as usize] as u32, boundary_index[j as usize], w))
             .collect();
         let active = system.active_supernodes(coupling_rows.iter().map(|c| c.0 as usize));
-        if std::env::var("UVFLAT_SN_STATS").is_ok() {
-            if let Some(a) = &active {
-                eprintln!("active supernodes {} of {}", a.iter().filter(|&&x| x).count(), a.len());
-            }
-        }
         Ok(BoundaryEditor {
             boundary,
             vertex_count: mesh.vertex_count(),

@@ -125,8 +125,7 @@ pub fn cancel_singularity_pairs(
     let resolver = Resolver::new(mesh, &edges, &angles, omega)?;
     let mut blocked = HashSet::new();
     let trial = Trial { mesh, edges: &edges, angles: &angles, resolver: &resolver };
-    let mut budget =
-        std::env::var("PAIR_BUDGET").ok().and_then(|x| x.parse().ok()).unwrap_or_else(|| trial_budget(mesh));
+    let mut budget = trial_budget(mesh);
     let total = budget;
     for step in 1..=RADIUS_STEPS {
         let radius = distance * step as f64 / RADIUS_STEPS as f64;
