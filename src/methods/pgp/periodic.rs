@@ -109,13 +109,67 @@ pub fn periodic_solve(
 ) -> Result<(Vec<[f64; 4]>, SolveReport)> {
     let edges = EdgeList::new(mesh);
     let system = assemble(mesh, &edges, normals, field, omega);
-    let locked = locked_vertices(mesh, &system);
-    let (x, report) = minimize(&system, &locked, options, progress, span)?;
+    let locked: Vec<(u32, [f64; 2])> = locked_vertices(mesh, &system)
+        .into_iter()
+        .flat_map(|(b, x)| [(2 * b, [x[0], x[1]]), (2 * b + 1, [x[2], x[3]])])
+        .collect();
+    let (x, report) = minimize(&pair_system(&system), &locked, options, progress, span)?;
     let mut out = vec![[0.0; 4]; mesh.vertex_count()];
     for (b, &v) in system.vertex_of.iter().enumerate() {
-        out[v as usize] = x[b];
+        let (u, w) = (x[2 * b], x[2 * b + 1]);
+        out[v as usize] = [u[0], u[1], w[0], w[1]];
     }
     Ok((out, report))
+}
+
+/// The same quadratic form with one block per (cosine, sine) pair: block 2b is U of vertex
+/// block b, block 2b + 1 its V, and a 2×2 block joins two pairs only where the 4×4 form couples
+/// them.
+///
+/// Why: the rotation matching (eq. 13) maps θ to θ and φ to φ across an edge whose rotation r
+/// is even, and θ to φ only where r is odd (the matching's cut lines between singularities).
+/// So the 4V unknowns form two copies of the vertex graph glued along those lines, which the
+/// fill-reducing ordering sees when the pairs are separate nodes; with the vertex's 4 unknowns
+/// kept together every front of the factorization is twice as wide. Measured on the 207k-face
+/// disk (`cargo bench --bench pgp`, same session): see the README's PGP speed bullet.
+fn pair_system(system: &BlockSystem<4>) -> BlockSystem<2> {
+    let n = system.blocks();
+    let sub = |m: &Block<4>, i: usize, j: usize| -> Block<2> {
+        std::array::from_fn(|r| std::array::from_fn(|c| m[2 * i + r][2 * j + c]))
+    };
+    let nonzero = |m: &Block<2>| m.iter().flatten().any(|&x| x != 0.0);
+    let mut edge_blocks = Vec::new();
+    let mut off = Vec::new();
+    let mut diag = Vec::with_capacity(2 * n);
+    for (b, d) in system.diag.iter().enumerate() {
+        diag.push(sub(d, 0, 0));
+        diag.push(sub(d, 1, 1));
+        let cross = sub(d, 1, 0);
+        if nonzero(&cross) {
+            edge_blocks.push([2 * b as u32 + 1, 2 * b as u32]);
+            off.push(cross);
+        }
+    }
+    for (&[hi, lo], o) in system.edge_blocks.iter().zip(&system.off) {
+        for i in 0..2 {
+            for j in 0..2 {
+                let q = sub(o, i, j);
+                if nonzero(&q) {
+                    edge_blocks.push([2 * hi + i as u32, 2 * lo + j as u32]);
+                    off.push(q);
+                }
+            }
+        }
+    }
+    BlockSystem {
+        block_of: Vec::new(),
+        vertex_of: system.vertex_of.iter().flat_map(|&v| [v, v]).collect(),
+        edge_blocks,
+        diag,
+        off,
+        rhs: system.rhs.iter().flat_map(|r| [[r[0], r[1]], [r[2], r[3]]]).collect(),
+        constant: system.constant,
+    }
 }
 
 /// One locked block per connected component (corner 0 of its lowest triangle), at U = V = (1, 0).
@@ -233,11 +287,10 @@ mod tests {
         assert_eq!(z, x);
     }
 
-    /// The assembled quadratic form equals the sum of the edge energies of eq. 14 weighted as in
-    /// eq. 15, evaluated directly from the definitions on random unknowns.
-    #[test]
-    fn assembled_energy_is_the_weighted_sum_of_edge_energies() {
-        // A small, slightly bumpy equilateral grid (all corners acute, so no projection).
+    /// A small, slightly bumpy equilateral grid (all corners acute, so no projection), its
+    /// normals and a field with arbitrary quarter-turn representatives per vertex (odd and even
+    /// rotations between neighbours).
+    fn bumpy_grid() -> (TriMesh, Vec<[f64; 3]>, Vec<[f64; 3]>) {
         let (w, h) = (4u32, 4u32);
         let mut positions = Vec::new();
         for j in 0..=h {
@@ -259,7 +312,6 @@ mod tests {
         }
         let mesh = TriMesh::new(&positions, &tris).unwrap();
         let normals = super::super::frames::vertex_normals(&mesh);
-        // A field with arbitrary quarter-turn representatives per vertex.
         let field: Vec<[f64; 3]> = (0..mesh.vertex_count())
             .map(|v| {
                 let n = normals[v];
@@ -267,11 +319,42 @@ mod tests {
                 rotate_quarter(n, k, (v * 7 % 4) as u8)
             })
             .collect();
+        (mesh, normals, field)
+    }
+
+    fn unknowns(n: usize) -> Vec<[f64; 4]> {
+        (0..n).map(|v| std::array::from_fn(|k| ((v * 4 + k) as f64 * 0.37).sin())).collect()
+    }
+
+    /// The pair system is the same quadratic form, and it joins a U pair to a V pair exactly
+    /// where the 4×4 form does (odd rotations): the grid's field has both kinds of edges.
+    #[test]
+    fn the_pair_system_has_the_same_energy_and_joins_theta_to_phi_only_across_odd_rotations() {
+        let (mesh, normals, field) = bumpy_grid();
+        let edges = EdgeList::new(&mesh);
+        let system = assemble(&mesh, &edges, &normals, &field, 1.3);
+        let pairs = pair_system(&system);
+        assert_eq!(pairs.blocks(), 2 * system.blocks());
+        let x = unknowns(mesh.vertex_count());
+        let xp: Vec<[f64; 2]> = x.iter().flat_map(|v| [[v[0], v[1]], [v[2], v[3]]]).collect();
+        let (e4, e2) = (system.quadratic_energy(&x), pairs.quadratic_energy(&xp));
+        assert!((e4 - e2).abs() < 1e-12 * e4.abs().max(1.0), "{e4} vs {e2}");
+        let crossing = pairs.edge_blocks.iter().filter(|&&[hi, lo]| hi % 2 != lo % 2).count();
+        let parallel = pairs.edge_blocks.len() - crossing;
+        assert!(crossing > 0 && parallel > 0, "{crossing} θ–φ and {parallel} θ–θ/φ–φ couplings");
+        // Fewer couplings than the 4 pair blocks of every 4×4 edge block.
+        assert!(pairs.edge_blocks.len() < 4 * system.edge_blocks.len());
+    }
+
+    /// The assembled quadratic form equals the sum of the edge energies of eq. 14 weighted as in
+    /// eq. 15, evaluated directly from the definitions on random unknowns.
+    #[test]
+    fn assembled_energy_is_the_weighted_sum_of_edge_energies() {
+        let (mesh, normals, field) = bumpy_grid();
         let omega = 1.3;
         let edges = EdgeList::new(&mesh);
         let system = assemble(&mesh, &edges, &normals, &field, omega);
-        let x: Vec<[f64; 4]> =
-            (0..mesh.vertex_count()).map(|v| std::array::from_fn(|k| ((v * 4 + k) as f64 * 0.37).sin())).collect();
+        let x = unknowns(mesh.vertex_count());
         let mut direct = 0.0;
         for t in 0..mesh.triangle_count() {
             let tri = mesh.triangles()[t];

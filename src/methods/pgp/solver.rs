@@ -70,14 +70,17 @@ use faer::Mat;
 /// A B×B block.
 pub type Block<const B: usize> = [[f64; B]; B];
 
-/// `F*(x) = xᵀ A x − 2 bᵀ x + c` over per-vertex blocks of B unknowns: the referenced vertices
-/// of a mesh are the blocks, its edges the off-diagonal blocks.
+/// `F*(x) = xᵀ A x − 2 bᵀ x + c` over blocks of B unknowns: from [`BlockSystem::new`], the
+/// referenced vertices of a mesh are the blocks and its edges the off-diagonal blocks; the
+/// periodic solve also builds one with a block per (cosine, sine) pair (`periodic.rs`).
 pub struct BlockSystem<const B: usize> {
-    /// Block of each mesh vertex ([`NONE`] for unreferenced vertices).
+    /// Block of each mesh vertex ([`NONE`] for unreferenced vertices); empty when the blocks are
+    /// not one per vertex (then [`Self::add_diagonal`] and [`Self::add_pair`] do not apply).
     pub block_of: Vec<u32>,
     /// Mesh vertex of each block.
     pub vertex_of: Vec<u32>,
-    /// Block endpoints of each mesh edge (same numbering as [`EdgeList`]), `[hi, lo]`, hi > lo.
+    /// Block endpoints of each off-diagonal block, `[hi, lo]`, hi > lo, no pair twice (from
+    /// [`BlockSystem::new`]: one per mesh edge, in [`EdgeList`] numbering).
     pub edge_blocks: Vec<[u32; 2]>,
     /// Diagonal blocks `A_vv`.
     pub diag: Vec<Block<B>>,
