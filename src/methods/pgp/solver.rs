@@ -28,7 +28,8 @@
 //!    30 iterations on `closed_g0_spot`, where the damped steps reach 10⁻⁹ in 28.
 //!
 //! The block sparsity pattern (one B×B block per vertex and per edge) and its symbolic
-//! factorization (vertex-level nested dissection, expanded to the B unknowns of each vertex)
+//! factorization (block-level nested dissection, expanded to the B unknowns of each block; the
+//! periodic solve passes one block per (cosine, sine) pair, the smoothing one per vertex)
 //! are computed once and reused by every factorization.
 //!
 //! Cost per Newton iteration: one numeric factorization of a (B·V)×(B·V) matrix (one more per
@@ -37,7 +38,7 @@
 //! which also keeps the large fronts' buffers between factorizations and puts each matrix
 //! entry straight into its front, [`crate::linalg::front_assembly`]); a rejected shift stops
 //! the factorization at the failing front. On the 207k-face disk of `benches/pgp.rs` a
-//! factorization plus its solve takes about 0.55 s (0.44 + 0.11 s; 0.7 s with the plane-split
+//! factorization plus its solve took about 0.55 s with per-vertex blocks (0.44 + 0.11 s; 0.7 s with the plane-split
 //! order used before [`block_order`]), a rejected one 0.01–0.4 s depending on how near the root
 //! of the elimination tree it fails.
 //! Measured and not adopted (`benches/pgp_diagnostics.rs` on `closed_g0_armadillo`, 80
