@@ -673,3 +673,72 @@ fn to_origin(mut uv: Vec<[[f64; 2]; 3]>) -> (Vec<[[f64; 2]; 3]>, [f64; 2]) {
     }
     (uv, [hi[0] - shift[0], hi[1] - shift[1]])
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::methods::pgp::{pgp, PgpOptions};
+    use crate::progress::Progress;
+
+    /// A flat 4 × 4 grid of unit squares, for a small [`PgpResult`] to build a [`Context`] from.
+    fn grid_result() -> (TriMesh, PgpResult) {
+        let n = 4u32;
+        let positions: Vec<f64> = (0..=n).flat_map(|j| (0..=n).flat_map(move |i| [i as f64, j as f64, 0.0])).collect();
+        let id = |i: u32, j: u32| j * (n + 1) + i;
+        let tris: Vec<u32> = (0..n)
+            .flat_map(|j| {
+                (0..n).flat_map(move |i| {
+                    [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)]
+                })
+            })
+            .collect();
+        let mesh = TriMesh::new(&positions, &tris).unwrap();
+        let result = pgp(&mesh, &PgpOptions::default(), &mut Progress::none()).unwrap();
+        (mesh, result)
+    }
+
+    /// A cut whose chart holds a zero-area triangle (an iso-line through a vertex splits a
+    /// triangle into a line, 43e9845): the atlas refuses such a triangle, so it goes on a
+    /// segment of its own (its (u, v) edge lengths are its 3D ones in cells) and the rest of
+    /// the chart is flattened without a fold.
+    #[test]
+    fn a_zero_area_cut_triangle_is_laid_out_on_a_segment_beside_the_atlas_charts() {
+        let (mesh, result) = grid_result();
+        let graph = iso_graph(&mesh, &result, 1.0).unwrap();
+        let refined = refine(&mesh, &graph);
+        // The unit square (two triangles) and, under its bottom edge, the line 0 – 4 – 1.
+        let points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.25, 0.0, 0.0]];
+        let cut = TriMesh::from_checked(points, vec![[0, 1, 2], [0, 2, 3], [0, 4, 1]]).unwrap();
+        let context = Context {
+            mesh: &mesh,
+            result: &result,
+            graph: &graph,
+            refined: &refined,
+            cut: &cut,
+            density: 1.0,
+            scale: 1.0 / TAU,
+        };
+        let out = context.flatten_by_atlas(&[0, 1, 2]).expect("the atlas flattens the square");
+
+        let mut sources = out.source.clone();
+        sources.sort_unstable();
+        assert_eq!(sources, [0, 1, 2], "every cut triangle is laid out once");
+        let line = out.source.iter().position(|&r| r == 2).unwrap();
+        let line_chart = out.chart[line];
+        assert_eq!(out.chart.iter().filter(|&&c| c == line_chart).count(), 1, "the line is a chart of its own");
+        assert_eq!(out.charts[line_chart as usize].kind, ChartKind::Atlas);
+        assert_eq!(area2(out.uv[line]), 0.0);
+        let k = result.omega / TAU;
+        let uv = out.uv[line];
+        let length = |a: [f64; 2], b: [f64; 2]| (b[0] - a[0]).hypot(b[1] - a[1]);
+        assert!((length(uv[0], uv[1]) - 0.25 * k).abs() < 1e-12 * k, "{uv:?}");
+        assert!((length(uv[1], uv[2]) - 0.75 * k).abs() < 1e-12 * k, "{uv:?}");
+        assert!((length(uv[0], uv[2]) - k).abs() < 1e-12 * k, "{uv:?}");
+        for (r, q) in out.uv.iter().enumerate() {
+            if r != line {
+                assert!(area2(*q) > 0.0, "square triangle {} folds: {q:?}", out.source[r]);
+                assert_ne!(out.chart[r], line_chart);
+            }
+        }
+    }
+}
