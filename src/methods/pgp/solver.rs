@@ -61,7 +61,11 @@
 //! (the last factor reused for up to 1 or 3 more steps while each is a full step with at least
 //! a quarter of the predicted decrease): on the 207k-face disk, which converges in 62 Newton
 //! iterations, both stopped unconverged at the 100-iteration limit (‖∇F**‖ ≈ 0.3, 81.9 / 61.6 s
-//! against 63–69 s converged).
+//! against 63–69 s converged); on 2026-12-04 (README, "Speed"): the shift grid ×2 / ÷2 (the
+//! 207k-face disk 62 → 73 iterations), the minimum of the unshifted model along a shifted step
+//! (t* = −gᵀs / (−gᵀs − σ‖s‖²): fewer iterations on 11 of 29 runs, more on kitten 69 → 76, about
+//! the same total time) and a line search along polar steps per pair (unconverged after 100
+//! iterations on armadillo, nefertiti and spot).
 
 use super::frames::EdgeList;
 use crate::error::{Error, Result};
