@@ -13,7 +13,10 @@
 //! run), wall seconds of `pgp` (everything up to the singularities), of the chart layout,
 //! of the per-chart parameterization (one line per period), of the remesh (8 lines per
 //! period), their total, the number of charts, and the remesh's face count and quad share.
-//! The load average before and after is printed: the machine is shared.
+//! The load average before and after is printed: the machine is shared. So is a same-run
+//! reference of the machine's speed: the GFLOP/s of a dense 1500 × 1500 product on both cores
+//! (faer, the kernels the factorizations of the periodic solve spend most of their time in),
+//! median of 5, before and after the runs; a pipeline time divided by it compares across days.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -32,6 +35,24 @@ fn median(mut xs: Vec<f64>) -> f64 {
 fn load_average() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .map_or("?".into(), |s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+}
+
+/// Median GFLOP/s of `C = A Aᵀ` for a dense 1500 × 1500 `A`, on all cores (5 runs).
+fn dense_reference_gflops() -> f64 {
+    use faer::linalg::matmul::matmul;
+    use faer::{Accum, Mat, Par};
+    let n = 1500;
+    let a = Mat::<f64>::from_fn(n, n, |i, j| ((i * 7 + j * 13) % 17) as f64 / 17.0 - 0.5);
+    let mut c = Mat::<f64>::zeros(n, n);
+    let rates = (0..5)
+        .map(|_| {
+            let start = Instant::now();
+            matmul(c.as_mut(), Accum::Replace, a.as_ref(), a.transpose(), 1.0, Par::rayon(0));
+            std::hint::black_box(&c);
+            2.0 * (n as f64).powi(3) / start.elapsed().as_secs_f64() / 1e9
+        })
+        .collect();
+    median(rates)
 }
 
 fn load(path: &PathBuf) -> TriMesh {
@@ -53,6 +74,7 @@ fn main() {
     }
     println!("Newton iteration limit: {}", options.newton.max_iterations);
     println!("load average before: {}", load_average());
+    println!("dense reference before: {:.1} GFLOP/s", dense_reference_gflops());
     println!(
         "| mesh | triangles | Newton iterations | pgp s | chart layout s | charts s | remesh s | total s | charts | remesh faces | quads |"
     );
@@ -97,4 +119,5 @@ fn main() {
         );
     }
     println!("load average after: {}", load_average());
+    println!("dense reference after: {:.1} GFLOP/s", dense_reference_gflops());
 }
