@@ -64,8 +64,10 @@
 //! against 63–69 s converged); on 2026-12-04 (README, "Speed"): the shift grid ×2 / ÷2 (the
 //! 207k-face disk 62 → 73 iterations), the minimum of the unshifted model along a shifted step
 //! (t* = −gᵀs / (−gᵀs − σ‖s‖²): fewer iterations on 11 of 29 runs, more on kitten 69 → 76, about
-//! the same total time) and a line search along polar steps per pair (unconverged after 100
-//! iterations on armadillo, nefertiti and spot).
+//! the same total time), a line search along polar steps per pair (unconverged after 100
+//! iterations on armadillo, nefertiti and spot), and faer's supernode relaxation looser or
+//! tighter than its default (10 Newton iterations on the 207k-face disk: 14.1–14.8 s, against
+//! 14.2 s with the default).
 
 use super::frames::EdgeList;
 use crate::error::{Error, Result};
