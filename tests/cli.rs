@@ -326,3 +326,26 @@ fn a_closed_stdout_is_not_a_panic() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(output.status.code(), Some(141), "{stderr}");
 }
+
+#[test]
+fn pgp_writes_per_corner_phases_a_quad_mesh_and_its_figures() {
+    let (out, quads) = (scratch("knight_pgp.obj"), scratch("knight_quads.obj"));
+    let mesh = format!("{MESHES}/closed_g0_decimated_knight.obj");
+    let o = uvflat(&["pgp", &mesh, "-o", out.to_str().unwrap(), "--quad-mesh", quads.to_str().unwrap(), "--json"]);
+    let report = json(&o);
+    assert_eq!(report["method"], "pgp");
+    assert_eq!(report["triangles"], 1000);
+    // Hopf–Poincaré on a sphere: the indices sum to 2.
+    assert!((report["index_sum"].as_f64().unwrap() - 2.0).abs() < 1e-9, "{report}");
+    // The lower bound of forced.rs: 8 quarter turns (χ = 2), at most 2 in a triangle here.
+    let (forced, singular) =
+        (report["forced_singular_triangles"].as_u64().unwrap(), report["singular_triangles"].as_u64().unwrap());
+    assert_eq!(report["forced_quarter_turns"], 8);
+    assert!((4..=8).contains(&forced) && forced <= singular, "{report}");
+    assert!(report["converged"].as_bool().unwrap(), "{report}");
+    // One (θ/2π, φ/2π) per corner, and the remesh the report counts.
+    assert_eq!(count_lines(&out, "vt "), 3000);
+    assert_eq!(count_lines(&out, "f "), 1000);
+    assert_eq!(count_lines(&quads, "f ") as u64, report["quad_mesh"]["faces"].as_u64().unwrap());
+    assert!(report["quad_mesh"]["quads"].as_u64().unwrap() * 10 >= report["quad_mesh"]["faces"].as_u64().unwrap() * 9);
+}

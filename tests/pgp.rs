@@ -7,7 +7,9 @@
 //! - the periodic solve and extraction (§2–3): a torus sampled from its parametric form has no
 //!   singularity and gradients aligned with the field; results do not depend on which quarter
 //!   turn represents the field at each vertex;
-//! - Hopf–Poincaré: the singularity indices sum to 2 − 2g on every closed mesh.
+//! - Hopf–Poincaré: the singularity indices sum to 2 − 2g on every closed mesh; the field's
+//!   quarter indices sum to the holonomy's quarter turns, every triangle with one is open, and
+//!   the open triangles are never fewer than `forced.rs`'s lower bound.
 //!
 //! Run with `--nocapture` for the per-mesh tables.
 
@@ -20,6 +22,7 @@ use meshes::{closed_meshes, load};
 
 use uvflat::geometry::{cross, dot, norm, sub};
 use uvflat::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
+use uvflat::methods::pgp::forced::{field_quarter_index, forced_singular_triangles, has_antipodal_edge};
 use uvflat::TriMesh;
 
 fn mesh_of(s: &surfaces::Sampled) -> TriMesh {
@@ -341,6 +344,7 @@ fn singularity_indices_sum_to_the_euler_characteristic_on_every_closed_mesh() {
         );
         let chi = t.euler_characteristic as f64;
         assert!((s.index_sum() - chi).abs() < 1e-6, "{file}: indices sum to {} but χ = {chi}", s.index_sum());
+        check_forced_singular_triangles(&file, &mesh, &r);
         for (v, &i) in s.index.iter().enumerate() {
             assert!((4.0 * i - (4.0 * i).round()).abs() < 1e-6, "{file}: index {i} of vertex {v} is not a quarter");
         }
@@ -371,6 +375,33 @@ fn singularity_indices_sum_to_the_euler_characteristic_on_every_closed_mesh() {
     for row in &remesh_rows {
         println!("{row}");
     }
+}
+
+/// The lower bound of `forced.rs` against the parameterization PGP computed: the field's
+/// quarter indices sum to the holonomy's quarter turns (the d_e cancel across every edge), every
+/// triangle with a non-zero index is open in Algorithm 1, and so the open triangles are at least
+/// as many as the bound.
+fn check_forced_singular_triangles(file: &str, mesh: &TriMesh, r: &uvflat::methods::pgp::PgpResult) {
+    let forced = forced_singular_triangles(mesh, &r.normals);
+    let q: Vec<i64> = (0..mesh.triangle_count()).map(|t| field_quarter_index(mesh, &r.normals, &r.field, t)).collect();
+    if forced.undetermined_components == 0 {
+        assert_eq!(q.iter().sum::<i64>().unsigned_abs(), forced.quarters, "{file}");
+        assert_eq!(forced.quarters % 4, 0, "{file}: the holonomies sum to a whole number of turns");
+    }
+    for (t, &qt) in q.iter().enumerate() {
+        let defined = !has_antipodal_edge(mesh, &r.normals, t);
+        assert!(qt == 0 || !defined || r.param.open[t], "{file}: triangle {t} has index {qt}/4 but closes");
+    }
+    let open = r.param.open.iter().filter(|&&o| o).count();
+    assert!(open >= forced.triangles, "{file}: {open} open triangles, bound {}", forced.triangles);
+    println!(
+        "    {file}: field index {} quarters in {} triangles, fewest possible {} ({} quarter turns{})",
+        q.iter().sum::<i64>(),
+        q.iter().filter(|&&x| x != 0).count(),
+        forced.triangles,
+        forced.quarters,
+        if forced.undetermined_components > 0 { ", undetermined: opposite normals across an edge" } else { "" }
+    );
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -20,6 +20,7 @@ use uvflat::methods::length_area_distortion::DistortionEnergy;
 use uvflat::methods::near_optimal::{near_optimal_map, NearOptimalOptions};
 use uvflat::methods::nonlinear::{nonlinear_map, NonlinearMethod, NonlinearOptions};
 use uvflat::methods::pgp::charts::{chart_parameterization, ChartKind, ChartParameterization};
+use uvflat::methods::pgp::forced::forced_singular_triangles;
 use uvflat::methods::pgp::quality::quality;
 use uvflat::methods::pgp::smoothing::{SmoothingOptions, Symmetry};
 use uvflat::methods::pgp::{pgp, quad_dominant_remesh, PgpOptions, PolygonMesh};
@@ -742,6 +743,7 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
     };
     let s = &result.singularities;
     let genus = mesh.topology().genus;
+    let forced = forced_singular_triangles(&mesh, &result.normals);
     if args.json {
         println!(
             "{}",
@@ -756,6 +758,7 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
                 }),
                 "singular_vertices": s.vertices.len(), "singular_edges": s.edges.len(),
                 "singular_triangles": s.triangles.len(), "singular_triangle_fraction": q.singular_triangle_fraction,
+                "forced_singular_triangles": forced.triangles, "forced_quarter_turns": forced.quarters,
                 "singular_points": points.len(), "index_sum": s.index_sum(),
                 "newton_iterations": result.solve.iterations, "converged": result.solve.converged,
                 "final_gradient": result.solve.final_gradient,
@@ -791,6 +794,12 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
             s.edges.len(),
             s.triangles.len(),
             100.0 * q.singular_triangle_fraction
+        );
+        println!(
+            "  fewest singular triangles possible     {} ({:.2}%, {} quarter turns to carry)",
+            forced.triangles,
+            100.0 * forced.triangles as f64 / mesh.triangle_count() as f64,
+            forced.quarters
         );
         println!("  singular points                        {} (index sum {:.2})", points.len(), s.index_sum());
         println!(

@@ -17,6 +17,8 @@
 //!   vertex phases, every transition kept (not in the paper; optional, on by default);
 //! - [`singularities`]: singular vertices, edges, triangles and indices (§3.2);
 //! - [`quality`]: singular-triangle fraction, stretch, shear, alignment (Table I);
+//! - [`forced`]: the fewest singular triangles any PGP parameterization of a mesh can have
+//!   (Hopf–Poincaré and the rotation matching; a bound to compare the fraction with);
 //! - [`isolines`]: the graph of iso-lines on the surface (§3.3 Algorithm 2, and §5's density);
 //! - [`layout`]: the chart layout, chart boundaries along the iso-2kπ lines (§3.3);
 //! - [`remesh`]: the quad-dominant remesh (§5);
@@ -35,6 +37,7 @@ pub mod curl;
 pub mod curvature;
 pub mod density;
 pub mod extraction;
+pub mod forced;
 pub mod frames;
 pub mod isolines;
 pub mod layout;

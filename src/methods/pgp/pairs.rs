@@ -21,7 +21,8 @@
 //! q_T = (Σ_{e ∈ ∂T} ±d_e − 4 Ω_T) / 2π,   Ω_T = the holonomy Σ ±κ_e wrapped into (−π, π],
 //! ```
 //!
-//! is an integer: the index of T in quarters (Σ_T q_T = 4χ on a closed mesh). Changing p_e by
+//! is an integer: the index of T in quarters (on a closed mesh Σ_T q_T = −(2/π) Σ_T Ω_T, which
+//! is 4χ unless some Ω_T wrap around, see [`super::forced`]). Changing p_e by
 //! ±1 moves a quarter from one triangle of e to the other, so changing it along a dual path
 //! from a +¼ triangle to a −¼ one (shortest, by distances between centroids) cancels the pair
 //! and keeps every other index. With the integers fixed, the field is the least-squares
