@@ -53,6 +53,11 @@
 //! Measured (README, "Singularity-pair cancellation"): bob 4.0 → 1.8%, eight 5.4 → 2.5%,
 //! knight 5.9 → 3.6%, cow 2.5 → 1.2%, man 2.1 → 0.8% singular triangles.
 //!
+//! Measured and not kept (2026-12-04): re-weighting the edges whose change slips past the
+//! matching's tie after a trial solve (×4 per round, 6 rounds, Woodbury updates of the factor),
+//! so that the re-matching keeps the chosen integers: the slips moved to neighbouring edges,
+//! and knight kept 30 field singular triangles instead of 28.
+//!
 //! Cost: a Dijkstra bounded by the radius per singular triangle, one V × V sparse Cholesky
 //! factorization, and one solve per trial.
 
