@@ -12,13 +12,14 @@
 //! turns with
 //!
 //! ```text
-//! q_T · π/2 = Σ_e d_e − Ω_T,    |q_T| ≤ 3/2 + 2|Ω_T|/π.
+//! q_T · π/2 = Ω_T + Σ_e d_e,    |q_T| ≤ 3/2 + 2|Ω_T|/π.
 //! ```
 //!
-//! T is open in Algorithm 1 (a singular triangle of §3.2, [`super::extraction`]) exactly when
-//! q_T ≠ 0 (|q_T| ≤ 3 < 4, so a non-zero index cannot close). On a closed connected component
+//! The matched quarter turns fail to close around T exactly when q_T ≠ 0 (|q_T| ≤ 3 < 4), and
+//! then T is open in Algorithm 1, a singular triangle of §3.2 ([`super::extraction`]; it can
+//! also be open, or negative, for other reasons). On a closed connected component
 //! every interior edge's d_e enters its two triangles with opposite signs, so Σ_T q_T =
-//! −(2/π) Σ_T Ω_T: the same for every field. (Ω_T is the area of T's image on the sphere of
+//! (2/π) Σ_T Ω_T: the same for every field. (Ω_T is the area of T's image on the sphere of
 //! normals, wrapped into (−π, π]; the areas sum to 2πχ, so Σ_T q_T = ±4χ unless an image is
 //! larger than π: `closed_g0_cow` has 16 quarter turns and `closed_g0_man` 36 instead of 8.) The
 //! open triangles must carry at least |Σ_T q_T| quarter turns, each at most its cap
