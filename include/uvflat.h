@@ -274,6 +274,13 @@
 #define EDGES_PER_PERIOD 10.0
 
 /**
+ * Edges whose endpoint normals are this close to opposite (1 + n_a · n_b below it) have no
+ * well-defined transport: the smallest rotation between opposite normals is not unique, and
+ * near them rounding decides it.
+ */
+#define ANTIPODAL_TOLERANCE 1e-9
+
+/**
  * Angle-sum tolerance of the singular-vertex test (radians).
  */
 #define ANGLE_SUM_TOLERANCE 1e-6
