@@ -31,10 +31,10 @@
 //!
 //! Cost: O(F log F).
 
-use super::frames::{match_rotation, normalized, rotate_quarter, tangent_part, transport};
+use super::frames::{match_rotation, normalized, rotate_quarter, tangent_part, transport, wrap_angle};
 use crate::geometry::{cross, dot, sub};
 use crate::TriMesh;
-use std::f64::consts::{FRAC_PI_2, PI};
+use std::f64::consts::FRAC_PI_2;
 
 /// Edges whose endpoint normals are this close to opposite (1 + n_a · n_b below it) have no
 /// well-defined transport: the smallest rotation between opposite normals is not unique, and
@@ -104,12 +104,7 @@ pub fn triangle_holonomy(mesh: &TriMesh, normals: &[[f64; 3]], t: usize) -> f64 
     let p = tri.map(|v| mesh.points()[v as usize]);
     let start = normalized(tangent_part(sub(p[1], p[0]), n[0]));
     let around = transport(transport(transport(start, n[0], n[1]), n[1], n[2]), n[2], n[0]);
-    let turn = dot(cross(start, around), n[0]).atan2(dot(start, around));
-    if turn <= -PI {
-        turn + 2.0 * PI
-    } else {
-        turn
-    }
+    wrap_angle(dot(cross(start, around), n[0]).atan2(dot(start, around)))
 }
 
 /// q_T of the module comment for a cross field given by one vector per vertex (its tangent part):
@@ -153,6 +148,7 @@ fn fewest_carrying(caps: &mut [u64], quarters: u64) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     #[test]
     fn capacity_is_one_quarter_below_a_holonomy_of_45_degrees_and_grows_with_it() {
