@@ -116,6 +116,32 @@ fn main() {
         opts.field = Some(f);
         opts.smoothing = None;
     }
+    if let Ok(fr) = std::env::var("FIELD_RINGS") {
+        // The field smoothed on curvatures of FIELD_RINGS rings; normals and density from RINGS.
+        use uvflat::methods::pgp::smoothing::smooth_field;
+        let copts = CurvatureOptions { neighbourhood: Neighbourhood::Rings(fr.parse().unwrap()) };
+        let c2 = principal_curvatures(&mesh, &copts).unwrap();
+        let sopts = opts.smoothing.clone().unwrap();
+        let (f, _) = smooth_field(&mesh, &c2, &c2.kmax_direction, &sopts, &mut Progress::none(), (0.0, 1.0)).unwrap();
+        opts.field = Some(f);
+        opts.smoothing = None;
+    }
+    if std::env::var("HOLONOMY").is_ok() {
+        // Triangles whose holonomy alone forces an open triangle (|Ω_T| > 3π/4), by |Ω_T| bins.
+        use uvflat::methods::pgp::forced::{has_antipodal_edge, triangle_holonomy};
+        let normals = principal_curvatures(&mesh, &opts.curvature).unwrap().normal;
+        let mut bins = [0usize; 5];
+        let mut antipodal = 0;
+        for t in 0..mesh.triangle_count() {
+            if has_antipodal_edge(&mesh, &normals, t) {
+                antipodal += 1;
+                continue;
+            }
+            let o = triangle_holonomy(&mesh, &normals, t).abs().to_degrees();
+            bins[[45.0, 90.0, 135.0, 180.1].iter().position(|&b| o < b).unwrap_or(4)] += 1;
+        }
+        println!("  |holonomy| bins <45 <90 <135 >=135: {:?} antipodal {antipodal}", &bins[..4]);
+    }
     let r = pgp(&mesh, &opts, &mut Progress::none()).unwrap();
     let secs = start.elapsed().as_secs_f64();
     println!("  untangled: {:?}", r.untangled);

@@ -22,7 +22,9 @@ use meshes::{closed_meshes, load};
 
 use uvflat::geometry::{cross, dot, norm, sub};
 use uvflat::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
-use uvflat::methods::pgp::forced::{field_quarter_index, forced_singular_triangles, has_antipodal_edge};
+use uvflat::methods::pgp::forced::{
+    field_quarter_index, forced_singular_triangles, has_antipodal_edge, triangle_holonomy,
+};
 use uvflat::TriMesh;
 
 fn mesh_of(s: &surfaces::Sampled) -> TriMesh {
@@ -377,30 +379,40 @@ fn singularity_indices_sum_to_the_euler_characteristic_on_every_closed_mesh() {
     }
 }
 
-/// The lower bound of `forced.rs` against the parameterization PGP computed: the field's
-/// quarter indices sum to the holonomy's quarter turns (the d_e cancel across every edge), every
-/// triangle with a non-zero index is open in Algorithm 1, and so the open triangles are at least
-/// as many as the bound.
+/// The lower bound of `forced.rs` against the parameterization PGP computed: on a closed mesh
+/// the field's quarter indices sum to the holonomy's quarter turns (the d_e cancel across every
+/// edge); every triangle whose holonomy exceeds 3π/4 has a non-zero index; every triangle with
+/// a non-zero index is open in Algorithm 1; and so the open triangles are at least as many as
+/// the bound.
 fn check_forced_singular_triangles(file: &str, mesh: &TriMesh, r: &uvflat::methods::pgp::PgpResult) {
     let forced = forced_singular_triangles(mesh, &r.normals);
     let q: Vec<i64> = (0..mesh.triangle_count()).map(|t| field_quarter_index(mesh, &r.normals, &r.field, t)).collect();
-    if forced.undetermined_components == 0 {
+    let closed = mesh.boundary_loops().is_empty();
+    if closed && forced.undetermined_components == 0 {
         assert_eq!(q.iter().sum::<i64>().unsigned_abs(), forced.quarters, "{file}");
         assert_eq!(forced.quarters % 4, 0, "{file}: the holonomies sum to a whole number of turns");
     }
+    let mut beyond_135 = 0;
     for (t, &qt) in q.iter().enumerate() {
         let defined = !has_antipodal_edge(mesh, &r.normals, t);
         assert!(qt == 0 || !defined || r.param.open[t], "{file}: triangle {t} has index {qt}/4 but closes");
+        if defined && triangle_holonomy(mesh, &r.normals, t).abs() > 0.75 * std::f64::consts::PI {
+            beyond_135 += 1;
+            assert_ne!(qt, 0, "{file}: triangle {t} turns its normals by more than 135° but closes");
+        }
     }
+    assert_eq!(forced.holonomy_forced, beyond_135, "{file}");
     let open = r.param.open.iter().filter(|&&o| o).count();
     assert!(open >= forced.triangles, "{file}: {open} open triangles, bound {}", forced.triangles);
     println!(
-        "    {file}: field index {} quarters in {} triangles, fewest possible {} ({} quarter turns{})",
+        "    {file}: field index {} quarters in {} triangles, fewest possible {} ({} quarter turns, {} open \
+         whatever the field{})",
         q.iter().sum::<i64>(),
         q.iter().filter(|&&x| x != 0).count(),
         forced.triangles,
         forced.quarters,
-        if forced.undetermined_components > 0 { ", undetermined: opposite normals across an edge" } else { "" }
+        forced.holonomy_forced,
+        if forced.undetermined_components > 0 { ", index sum a range: opposite normals across an edge" } else { "" }
     );
 }
 
@@ -413,6 +425,7 @@ fn meshes_with_boundary_remesh_to_manifold_quad_dominant_meshes_ending_on_the_bo
         let mesh = load(file);
         let r = pgp(&mesh, &PgpOptions::default(), &mut Progress::none()).unwrap_or_else(|e| panic!("{file}: {e}"));
         let remesh = quad_dominant_remesh(&mesh, &r, REMESH_DENSITY).unwrap();
+        check_forced_singular_triangles(file, &mesh, &r);
         let report = check_remesh(file, &mesh, &remesh);
         println!("{file}: {} faces, {report:?}", remesh.face_sizes.len());
         assert!(report.quad_fraction >= 0.9 && report.max_distance <= 0.01, "{file}: {report:?}");

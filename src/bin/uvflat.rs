@@ -759,6 +759,7 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
                 "singular_vertices": s.vertices.len(), "singular_edges": s.edges.len(),
                 "singular_triangles": s.triangles.len(), "singular_triangle_fraction": q.singular_triangle_fraction,
                 "forced_singular_triangles": forced.triangles, "forced_quarter_turns": forced.quarters,
+                "holonomy_forced_triangles": forced.holonomy_forced,
                 "singular_points": points.len(), "index_sum": s.index_sum(),
                 "newton_iterations": result.solve.iterations, "converged": result.solve.converged,
                 "final_gradient": result.solve.final_gradient,
@@ -796,10 +797,11 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
             100.0 * q.singular_triangle_fraction
         );
         println!(
-            "  fewest singular triangles possible     {} ({:.2}%, {} quarter turns to carry)",
+            "  fewest singular triangles possible     {} ({:.2}%, {} quarter turns to carry, {} open whatever the field)",
             forced.triangles,
             100.0 * forced.triangles as f64 / mesh.triangle_count() as f64,
-            forced.quarters
+            forced.quarters,
+            forced.holonomy_forced
         );
         println!("  singular points                        {} (index sum {:.2})", points.len(), s.index_sum());
         println!(

@@ -21,18 +21,29 @@
 //! every interior edge's d_e enters its two triangles with opposite signs, so Σ_T q_T =
 //! (2/π) Σ_T Ω_T: the same for every field. (Ω_T is the area of T's image on the sphere of
 //! normals, wrapped into (−π, π]; the areas sum to 2πχ, so Σ_T q_T = ±4χ unless an image is
-//! larger than π: `closed_g0_cow` has 16 quarter turns and `closed_g0_man` 36 instead of 8.) The
-//! open triangles must carry at least |Σ_T q_T| quarter turns, each at most its cap
-//! ⌊3/2 + 2|Ω_T|/π⌋ (1 unless |Ω_T| ≥ π/4), so there are at least as many of them as it takes
-//! to reach |Σ_T q_T| adding the largest caps first. Components with a boundary give no bound
-//! (the boundary edges' d_e do not cancel), and neither do components with an edge between
-//! opposite vertex normals (a zero-thickness wall; `closed_g133_cheese` has four), across which
-//! the transport, hence the matching, is arbitrary.
+//! larger than π: `closed_g0_cow` has 16 quarter turns and `closed_g0_man` 36 instead of 8.)
+//! The open triangles must carry those |Σ_T q_T| quarter turns.
+//!
+//! Two things bound each q_T on its own: it is a whole number within 3/2 of 2Ω_T/π, so
+//! `⌈2Ω_T/π − 3/2⌉ ≤ q_T ≤ ⌊2Ω_T/π + 3/2⌋` (at most one quarter either way unless |Ω_T| ≥ π/4),
+//! and a triangle whose holonomy exceeds 3π/4 in magnitude is open whatever the field (no three
+//! d_e of at most π/4 can close it). The bound is the fewest triangles with q_T ≠ 0 that fit
+//! both: the forced ones, plus, if the sums they can reach miss the target, the free ones with
+//! the most room towards it, largest first. It relaxes the coupling of the d_e between
+//! neighbours, so it is a lower bound, not the minimum.
+//!
+//! The target is exact on a closed component. Elsewhere some d_e do not cancel: on a boundary
+//! edge (one triangle), and on an edge shared with a triangle that has an edge between opposite
+//! vertex normals (a zero-thickness wall; `closed_g133_cheese` has four), across which the
+//! transport, hence Ω and the matching, is arbitrary. Such triangles are left out, and every
+//! edge with one side left out or missing moves the sum of the others by up to |d_e| ≤ π/4, half
+//! a quarter turn: the target becomes a range. So every component gives a bound.
 //!
 //! Cost: O(F log F).
 
 use super::frames::{match_rotation, normalized, rotate_quarter, tangent_part, transport, wrap_angle};
 use crate::geometry::{cross, dot, sub};
+use crate::mesh::connectivity::NONE;
 use crate::TriMesh;
 use std::f64::consts::FRAC_PI_2;
 
@@ -47,11 +58,14 @@ pub struct ForcedSingularities {
     /// Quarter turns the singular triangles must carry: |Σ_T q_T| summed over the closed
     /// components with no antipodal edge (4 |χ| per component where discrete Gauss–Bonnet holds).
     pub quarters: u64,
-    /// The fewest triangles that can carry them: a lower bound on the open triangles, hence on
-    /// the singular triangles, of every PGP parameterization with these normals.
+    /// The fewest open triangles, over every component: a lower bound on the open triangles,
+    /// hence on the singular triangles, of every PGP parameterization with these normals.
     pub triangles: usize,
-    /// Closed components left out because an edge joins vertices with opposite normals
-    /// ([`ANTIPODAL_TOLERANCE`]): the matching across it is arbitrary, so nothing is forced.
+    /// Triangles open whatever the field, |Ω_T| > 3π/4 (counted in `triangles` too).
+    pub holonomy_forced: usize,
+    /// Closed components with an edge between opposite normals ([`ANTIPODAL_TOLERANCE`]): their
+    /// index sum is known only within a range, so they add nothing to `quarters`, and to
+    /// `triangles` what that range still forces.
     pub undetermined_components: usize,
 }
 
@@ -60,33 +74,92 @@ pub struct ForcedSingularities {
 pub fn forced_singular_triangles(mesh: &TriMesh, normals: &[[f64; 3]]) -> ForcedSingularities {
     let components = mesh.triangle_components();
     let count = components.iter().map(|&c| c as usize + 1).max().unwrap_or(0);
-    let mut closed = vec![true; count];
-    for loop_ in mesh.boundary_loops() {
-        if let Some(t) = loop_.first().and_then(|&v| mesh.outgoing_halfedges(v).next()) {
-            closed[components[(t / 3) as usize] as usize] = false;
-        }
-    }
-    let mut determined = vec![true; count];
-    let mut holonomy_sum = vec![0.0; count];
-    let mut caps: Vec<Vec<u64>> = vec![Vec::new(); count];
+    let left_out: Vec<bool> = (0..mesh.triangle_count()).map(|t| has_antipodal_edge(mesh, normals, t)).collect();
+    let mut parts = vec![ComponentIndices::default(); count];
     for (t, &c) in components.iter().enumerate() {
-        let c = c as usize;
-        determined[c] &= !has_antipodal_edge(mesh, normals, t);
-        let omega = triangle_holonomy(mesh, normals, t);
-        holonomy_sum[c] += omega;
-        caps[c].push(quarter_capacity(omega));
-    }
-    let mut forced = ForcedSingularities::default();
-    for c in (0..count).filter(|&c| closed[c]) {
-        if !determined[c] {
-            forced.undetermined_components += 1;
+        let part = &mut parts[c as usize];
+        if left_out[t] {
             continue;
         }
-        let quarters = (holonomy_sum[c].abs() / FRAC_PI_2).round() as u64;
-        forced.quarters += quarters;
-        forced.triangles += fewest_carrying(&mut caps[c], quarters);
+        part.add_triangle(triangle_holonomy(mesh, normals, t));
+        let loose = (0..3).filter(|&k| mesh.connectivity().twin[3 * t + k] == NONE).count();
+        part.boundary_edges += loose;
+        part.loose_edges += loose;
+        part.loose_edges += (0..3).filter(|&k| next_to_left_out(mesh, &left_out, 3 * t + k)).count();
+    }
+    let mut forced = ForcedSingularities::default();
+    for part in &mut parts {
+        if part.loose_edges == 0 {
+            forced.quarters += part.quarters.round().abs() as u64;
+        } else if part.boundary_edges == 0 {
+            forced.undetermined_components += 1;
+        }
+        forced.holonomy_forced += part.forced.len();
+        forced.triangles += part.fewest_open();
     }
     forced
+}
+
+/// Whether the twin of half-edge `h` lies in a triangle left out.
+fn next_to_left_out(mesh: &TriMesh, left_out: &[bool], h: usize) -> bool {
+    let twin = mesh.connectivity().twin[h];
+    twin != NONE && left_out[(twin / 3) as usize]
+}
+
+/// One component's triangles as ranges of possible quarter indices.
+#[derive(Debug, Clone, Default)]
+struct ComponentIndices {
+    /// Σ 2Ω_T/π over the triangles kept.
+    quarters: f64,
+    /// Edges of kept triangles whose d_e does not cancel: boundary edges and edges shared with
+    /// a triangle left out.
+    loose_edges: usize,
+    /// The boundary edges among them.
+    boundary_edges: usize,
+    /// (lowest, highest) q_T of the triangles that cannot close.
+    forced: Vec<(i64, i64)>,
+    /// How far each of the other triangles can go up (positive q_T) and down.
+    up: Vec<u64>,
+    down: Vec<u64>,
+}
+
+impl ComponentIndices {
+    fn add_triangle(&mut self, omega: f64) {
+        self.quarters += omega / FRAC_PI_2;
+        let (lo, hi) = quarter_range(omega);
+        if lo > 0 || hi < 0 {
+            self.forced.push((lo, hi));
+        } else {
+            self.up.push(hi as u64);
+            self.down.push(lo.unsigned_abs());
+        }
+    }
+
+    /// The fewest triangles with q_T ≠ 0 whose indices can sum into the target range.
+    fn fewest_open(&mut self) -> usize {
+        let slack = self.loose_edges as f64 / 2.0 + SUM_TOLERANCE;
+        let (low, high) = ((self.quarters - slack).ceil() as i64, (self.quarters + slack).floor() as i64);
+        let reach_low: i64 = self.forced.iter().map(|r| r.0).sum();
+        let reach_high: i64 = self.forced.iter().map(|r| r.1).sum();
+        let extra = if reach_high < low {
+            fewest_carrying(&mut self.up, (low - reach_high) as u64)
+        } else if reach_low > high {
+            fewest_carrying(&mut self.down, (reach_low - high) as u64)
+        } else {
+            0
+        };
+        self.forced.len() + extra
+    }
+}
+
+/// Rounding allowed on holonomies and their sums before another quarter turn counts.
+const SUM_TOLERANCE: f64 = 1e-6;
+
+/// The whole numbers q with |q π/2 − Ω| ≤ 3π/4, widened by rounding so that no possible index
+/// is left out.
+fn quarter_range(omega: f64) -> (i64, i64) {
+    let x = omega / FRAC_PI_2;
+    ((x - 1.5 - SUM_TOLERANCE).ceil() as i64, (x + 1.5 + SUM_TOLERANCE).floor() as i64)
 }
 
 /// Whether an edge of triangle `t` joins vertices with opposite normals ([`ANTIPODAL_TOLERANCE`]).
@@ -126,11 +199,6 @@ pub fn field_quarter_index(mesh: &TriMesh, normals: &[[f64; 3]], field: &[[f64; 
     (turn / FRAC_PI_2).round() as i64
 }
 
-/// The most quarter turns a triangle of holonomy `omega` can carry: ⌊3/2 + 2|Ω|/π⌋.
-fn quarter_capacity(omega: f64) -> u64 {
-    (1.5 + omega.abs() / FRAC_PI_2).floor() as u64
-}
-
 /// The fewest of `caps` whose sum reaches `quarters` (largest first); all of them if even that
 /// does not reach it (which the index bound rules out on a closed component).
 fn fewest_carrying(caps: &mut [u64], quarters: u64) -> usize {
@@ -151,12 +219,14 @@ mod tests {
     use std::f64::consts::PI;
 
     #[test]
-    fn capacity_is_one_quarter_below_a_holonomy_of_45_degrees_and_grows_with_it() {
-        assert_eq!(quarter_capacity(0.0), 1);
-        assert_eq!(quarter_capacity(-0.7), 1);
-        assert_eq!(quarter_capacity(PI / 4.0 + 1e-9), 2);
-        assert_eq!(quarter_capacity(-3.0 * PI / 4.0 - 1e-9), 3);
-        assert_eq!(quarter_capacity(PI), 3);
+    fn a_triangle_carries_one_quarter_either_way_below_45_degrees_and_is_forced_open_above_135() {
+        assert_eq!(quarter_range(0.0), (-1, 1));
+        assert_eq!(quarter_range(-0.7), (-1, 1));
+        assert_eq!(quarter_range(PI / 4.0 - 1e-3), (-1, 1));
+        assert_eq!(quarter_range(PI / 4.0 + 1e-3), (0, 2));
+        assert_eq!(quarter_range(3.0 * PI / 4.0 - 1e-3), (0, 2));
+        assert_eq!(quarter_range(3.0 * PI / 4.0 + 1e-3), (1, 3));
+        assert_eq!(quarter_range(-PI), (-3, -1));
     }
 
     #[test]
@@ -179,6 +249,33 @@ mod tests {
             assert!((triangle_holonomy(&mesh, &normals, f).abs() - FRAC_PI_2).abs() < 1e-12);
         }
         let forced = forced_singular_triangles(&mesh, &normals);
-        assert_eq!(forced, ForcedSingularities { quarters: 8, triangles: 4, undetermined_components: 0 });
+        assert_eq!(
+            forced,
+            ForcedSingularities { quarters: 8, triangles: 4, holonomy_forced: 0, undetermined_components: 0 }
+        );
+    }
+
+    #[test]
+    fn a_triangle_whose_normals_turn_by_more_than_135_degrees_is_open_for_every_field() {
+        // A flat triangle whose vertex normals lean outwards by 70°: their spherical triangle
+        // has an area between 3π/4 and π, so no matching closes it.
+        let p = [1.0, 0.0, 0.0, -0.5, 0.866, 0.0, -0.5, -0.866, 0.0];
+        let mesh = TriMesh::new(&p, &[0, 1, 2]).unwrap();
+        let lean = 70f64.to_radians();
+        let normals: Vec<[f64; 3]> =
+            mesh.points().iter().map(|x| [lean.sin() * x[0], lean.sin() * x[1], lean.cos()]).collect();
+        let omega = triangle_holonomy(&mesh, &normals, 0).abs();
+        assert!(omega > 3.0 * PI / 4.0 && omega < PI, "{omega}");
+        for turn in 0..24 {
+            let a = turn as f64 * 0.37;
+            let field: Vec<[f64; 3]> =
+                (0..3).map(|v| [(a * (v + 1) as f64).cos(), (a * (v + 2) as f64).sin(), 0.3]).collect();
+            assert_ne!(field_quarter_index(&mesh, &normals, &field, 0), 0, "field {turn}");
+        }
+        let forced = forced_singular_triangles(&mesh, &normals);
+        assert_eq!(
+            forced,
+            ForcedSingularities { quarters: 0, triangles: 1, holonomy_forced: 1, undetermined_components: 0 }
+        );
     }
 }
