@@ -80,6 +80,9 @@ fn main() {
     if let Ok(e) = std::env::var("IT") {
         opts.newton.max_iterations = e.parse().unwrap();
     }
+    if let Ok(d) = std::env::var("DISLOC") {
+        opts.dislocation_periods = d.parse().unwrap();
+    }
     if std::env::var("NOUNTANGLE").is_ok() {
         opts.untangle = false;
     }
@@ -146,6 +149,7 @@ fn main() {
     let secs = start.elapsed().as_secs_f64();
     println!("  untangled: {:?}", r.untangled);
     println!("  pairs: {:?}", r.pairs);
+    println!("  dislocations: {:?}", r.dislocations);
     let smooth = face_field_indices(&mesh, &face_directions(&mesh, &r.normals, &r.field, Symmetry::Cross), 4);
     let q = quality(&mesh, &r.param, &r.singularities, &r.normals, &r.field, r.omega).unwrap();
     let s = &r.singularities;

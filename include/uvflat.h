@@ -274,6 +274,26 @@
 #define EDGES_PER_PERIOD 10.0
 
 /**
+ * Default pairing distance, in periods (2π/ω).
+ */
+#define DEFAULT_DISLOCATION_PERIODS 1.5
+
+/**
+ * Rounds of pairing at most (each tries every pair once).
+ */
+#define DISLOCATION_ROUNDS 4
+
+/**
+ * Trials per √(triangle count) in all ([`trial_budget`]).
+ */
+#define DISLOCATION_TRIALS_PER_SQRT_TRIANGLE 4.0
+
+/**
+ * Field singular triangles a lone dislocation may be moved into: the nearest ones.
+ */
+#define ABSORPTION_CANDIDATES 4
+
+/**
  * Edges whose endpoint normals are this close to opposite (1 + n_a · n_b below it) have no
  * well-defined transport: the smallest rotation between opposite normals is not unique, and
  * near them rounding decides it.
@@ -1281,6 +1301,13 @@ typedef struct UvfPgpOptions {
    * `feature_periods`: callers built before it get the default.
    */
   double pair_periods;
+  /**
+   * Annihilate pairs of open triangles of opposite winding where the field is regular
+   * (dislocations of the wave pattern) closer than this many periods (2π/ω), turning the
+   * phases around them (default 1.5; not in the paper, see the README). 0: keep the periodic
+   * solve's phases. Added after `pair_periods`: callers built before it get the default.
+   */
+  double dislocation_periods;
 } UvfPgpOptions;
 
 /**

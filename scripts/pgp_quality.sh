@@ -57,4 +57,14 @@ for mesh in meshes:
           f"| {a['stretch']:.3f} / {b['stretch']:.3f} | {a['shear']:.3f} / {b['shear']:.3f} "
           f"| {a['alignment_degrees']:.1f}° / {b['alignment_degrees']:.1f}° | {newton(a)} / {newton(b)} "
           f"| {ca:.2f} / {cb:.2f} | {wa:.2f} / {wb:.2f} |")
+# Dislocation annihilation (dislocations.rs): dislocations found, pairs annihilated, moved into a
+# singular triangle of the field.
+print()
+print("| mesh | dislocations PGP / ccPGP | pairs annihilated PGP / ccPGP | moved into a field singularity PGP / ccPGP |")
+print("|---|--:|--:|--:|")
+for mesh in meshes:
+    name = os.path.basename(mesh)[:-4]
+    a, b = run(name, "pgp")[0]["dislocations"], run(name, "cc")[0]["dislocations"]
+    print(f"| {name.replace('closed_', '')} | {a['before']} / {b['before']} "
+          f"| {a['annihilated_pairs']} / {b['annihilated_pairs']} | {a['absorbed']} / {b['absorbed']} |")
 EOF

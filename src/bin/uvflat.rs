@@ -101,6 +101,11 @@ struct PgpArgs {
     /// the smoothed field's singularities.
     #[arg(long = "pair-periods", default_value_t = uvflat::methods::pgp::pairs::DEFAULT_PAIR_PERIODS)]
     pair_periods: f64,
+    /// Annihilate pairs of open triangles of opposite winding where the field is regular
+    /// (dislocations of the wave pattern) closer than P periods, turning the phases around
+    /// them (not in the paper, see the README). 0: keep the periodic solve's phases.
+    #[arg(long = "dislocation-periods", default_value_t = uvflat::methods::pgp::dislocations::DEFAULT_DISLOCATION_PERIODS)]
+    dislocation_periods: f64,
     /// Field smoothing (§4.2): directions equal modulo 2pi, pi or pi/2, or none.
     #[arg(long, value_enum, default_value_t = SmoothName::HalfPi)]
     smooth: SmoothName,
@@ -673,6 +678,12 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
     if !(args.pair_periods.is_finite() && args.pair_periods >= 0.0) {
         return Err(usage(format!("--pair-periods must be a finite number >= 0 (got {})", args.pair_periods)));
     }
+    if !(args.dislocation_periods.is_finite() && args.dislocation_periods >= 0.0) {
+        return Err(usage(format!(
+            "--dislocation-periods must be a finite number >= 0 (got {})",
+            args.dislocation_periods
+        )));
+    }
     if args.quad_svg.is_some() && args.quad_mesh.is_none() {
         return Err(usage("--quad-svg needs --quad-mesh"));
     }
@@ -694,6 +705,7 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
         untangle: !args.no_untangle,
         feature_periods: args.feature_periods,
         pair_periods: args.pair_periods,
+        dislocation_periods: args.dislocation_periods,
         smoothing: symmetry.map(|symmetry| SmoothingOptions { symmetry, ..SmoothingOptions::default() }),
         ..PgpOptions::default()
     };
@@ -755,6 +767,12 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
                     "field_singular_before": result.pairs.singular_before,
                     "field_singular_after": result.pairs.singular_after,
                     "cancelled": result.pairs.pairs, "trials": result.pairs.trials,
+                }),
+                "dislocation_periods": args.dislocation_periods,
+                "dislocations": serde_json::json!({
+                    "before": result.dislocations.before, "annihilated_pairs": result.dislocations.pairs,
+                    "absorbed": result.dislocations.absorbed,
+                    "trials": result.dislocations.trials,
                 }),
                 "singular_vertices": s.vertices.len(), "singular_edges": s.edges.len(),
                 "singular_triangles": s.triangles.len(), "singular_triangle_fraction": q.singular_triangle_fraction,

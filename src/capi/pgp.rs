@@ -10,6 +10,7 @@ use crate::error::{Error, Result, UvfStatus};
 use crate::methods::pgp::charts::{chart_parameterization, ChartKind, ChartParameterization};
 use crate::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
 use crate::methods::pgp::density::DEFAULT_FEATURE_PERIODS;
+use crate::methods::pgp::dislocations::DEFAULT_DISLOCATION_PERIODS;
 use crate::methods::pgp::pairs::DEFAULT_PAIR_PERIODS;
 use crate::methods::pgp::quality::{quality, Quality};
 use crate::methods::pgp::smoothing::{SmoothingOptions, Symmetry};
@@ -196,6 +197,11 @@ pub struct UvfPgpOptions {
     /// paper, see the README). 0: keep the smoothed field's singularities. Added after
     /// `feature_periods`: callers built before it get the default.
     pub pair_periods: f64,
+    /// Annihilate pairs of open triangles of opposite winding where the field is regular
+    /// (dislocations of the wave pattern) closer than this many periods (2π/ω), turning the
+    /// phases around them (default 1.5; not in the paper, see the README). 0: keep the periodic
+    /// solve's phases. Added after `pair_periods`: callers built before it get the default.
+    pub dislocation_periods: f64,
 }
 
 impl Default for UvfPgpOptions {
@@ -220,6 +226,7 @@ impl Default for UvfPgpOptions {
             untangle: 1,
             feature_periods: DEFAULT_FEATURE_PERIODS,
             pair_periods: DEFAULT_PAIR_PERIODS,
+            dislocation_periods: DEFAULT_DISLOCATION_PERIODS,
         }
     }
 }
@@ -311,6 +318,7 @@ fn pgp_options(o: &UvfPgpOptions, vertex_count: usize) -> Result<PgpOptions> {
         untangle: o.untangle != 0,
         feature_periods: o.feature_periods,
         pair_periods: o.pair_periods,
+        dislocation_periods: o.dislocation_periods,
         newton,
     })
 }

@@ -535,7 +535,8 @@ static void check_pgp(void) {
     uvf_pgp_options_default(&options);
     check(options.struct_size == sizeof options && options.smoothing == UVF_SMOOTH_HALF_PI && options.omega == 0.0 &&
               options.epsilon == 0.1 && options.max_newton_iterations == 100 && options.rho == 0.8 &&
-              options.untangle == 1 && options.feature_periods == 3.0 && options.pair_periods == 0.5,
+              options.untangle == 1 && options.feature_periods == 3.0 && options.pair_periods == 0.5 &&
+              options.dislocation_periods == 1.5,
           "pgp defaults");
     status = uvf_pgp(pos, nv, tris, nt, &options, corners, &pgp);
     check(status == UVF_OK && pgp != NULL, "pgp of a torus");
@@ -681,6 +682,16 @@ static void check_pgp(void) {
           "a NaN pair_periods is refused, naming it");
     options.pair_periods = 0.0;
     check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_OK, "pgp without pair cancellation");
+    options.dislocation_periods = -0.5;
+    status = uvf_pgp(pos, nv, tris, nt, &options, corners, NULL);
+    check(status == UVF_INVALID_ARGUMENT && strstr(uvf_last_error_message(), "dislocation_periods") != NULL,
+          "a negative dislocation_periods is refused, naming it");
+    options.dislocation_periods = 0.0;
+    check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_OK, "pgp without dislocation annihilation");
+    /* Callers built before `dislocation_periods` existed (fourth version) get its default. */
+    options.dislocation_periods = -1.0;
+    options.struct_size = offsetof(UvfPgpOptions, dislocation_periods);
+    check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_OK, "fourth-version pgp options are accepted");
     /* Callers built before `pair_periods` existed (third version) get its default. */
     options.pair_periods = -1.0;
     options.struct_size = offsetof(UvfPgpOptions, pair_periods);

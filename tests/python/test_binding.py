@@ -1052,6 +1052,32 @@ def test_pgp_pair_cancellation_and_the_kept_field_singularities_agree_with_the_c
     assert bad.returncode != 0 and "--pair-periods" in bad.stderr
 
 
+def test_pgp_dislocation_annihilation_and_the_kept_phases_agree_with_the_cli(tmp_path):
+    # dislocation_periods (default 1.5, not in Ray et al. 2006) annihilates pairs of open triangles
+    # of opposite winding where the field is regular; each kept pair removes at least two
+    # singular triangles, so the coarse knight has fewer with it than without (README).
+    name = "closed_g0_decimated_knight.obj"
+    p, t = load_mesh(name)
+    kept = uvflat.pgp(p, t, dislocation_periods=0)
+    annihilated = uvflat.pgp(p, t)
+    assert len(annihilated.singular_triangles) + 2 <= len(kept.singular_triangles)
+    out = tmp_path / "pgp.obj"
+    for args, result in [(["--dislocation-periods", "0"], kept), ([], annihilated)]:
+        cli = json.loads(run_cli("pgp", str(mesh_path(name)), "-o", str(out), "--json", *args).stdout)
+        assert cli["singular_triangles"] == len(result.singular_triangles)
+        assert cli["dislocation_periods"] == (0 if args else 1.5)
+        report = cli["dislocations"]
+        if args:
+            assert report["annihilated_pairs"] == report["absorbed"] == report["trials"] == 0
+        else:
+            removed = 2 * report["annihilated_pairs"] + report["absorbed"]
+            assert removed > 0 and report["before"] >= removed
+    with pytest.raises(uvflat.InvalidArgument, match="dislocation_periods"):
+        uvflat.pgp(p, t, dislocation_periods=float("inf"))
+    bad = run_cli("pgp", str(mesh_path(name)), "-o", str(out), "--dislocation-periods=-1", check=False)
+    assert bad.returncode != 0 and "--dislocation-periods" in bad.stderr
+
+
 def test_pgp_rejects_a_bad_field_naming_the_vertex_and_cancels():
     p, t = load_mesh("closed_g1_bob.obj")
     field = uvflat.curvature(p, t).kmax_direction.copy()

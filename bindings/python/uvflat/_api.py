@@ -1101,6 +1101,7 @@ def pgp(
     untangle: bool = True,
     feature_periods: float = 3.0,
     pair_periods: float = 0.5,
+    dislocation_periods: float = 1.5,
 ) -> PgpResult:
     """Periodic Global Parameterization (Ray, Li, Lévy, Sheffer, Alliez 2006; ``uvf_pgp``) of a
     manifold mesh of any genus, without cutting: principal-curvature field (or ``field``, an
@@ -1121,6 +1122,10 @@ def pgp(
     ``pair_periods``: the +¼ and −¼ singularities of the smoothed cross field closer than this
     many periods (2π/ω) are cancelled together and the field re-solved around them (not in the
     paper; see the README); 0 keeps the smoothed field's singularities.
+    ``dislocation_periods``: open triangles of opposite winding where the field is regular
+    (dislocations of the wave pattern) closer than this many periods are annihilated together by
+    turning the phases around them (not in the paper; see the README); 0 keeps the periodic
+    solve's phases.
 
     ``quad_mesh`` (a whole number of iso-lines per period, e.g. 8) also returns the quad-dominant
     remesh of §5 (vertices on the surface, non-quads split into quads and triangles; quad sides
@@ -1140,6 +1145,7 @@ def pgp(
     options.untangle = 1 if untangle else 0
     options.feature_periods = float(feature_periods)
     options.pair_periods = float(pair_periods)
+    options.dislocation_periods = float(dislocation_periods)
     options.rho = float(rho)
     options.epsilon = float(epsilon)
     if isinstance(max_newton_iterations, bool) or int(max_newton_iterations) != max_newton_iterations:

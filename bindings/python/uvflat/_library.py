@@ -442,6 +442,7 @@ class UvfPgpOptions(Structure):
         ("untangle", c_uint32),
         ("feature_periods", c_double),
         ("pair_periods", c_double),
+        ("dislocation_periods", c_double),
     ]
 
 

@@ -64,14 +64,16 @@ pub fn corner_parameterization(
     }
 }
 
-struct TriangleParam {
-    coords: [[f64; 2]; 3],
+/// Algorithm 1's output for one triangle.
+pub(super) struct TriangleParam {
+    pub(super) coords: [[f64; 2]; 3],
     rotation: [u8; 3],
     shift: [[i64; 2]; 3],
-    open: bool,
+    pub(super) open: bool,
 }
 
-fn triangle_parameterization(
+/// Algorithm 1 on triangle `t`.
+pub(super) fn triangle_parameterization(
     mesh: &TriMesh,
     normals: &[[f64; 3]],
     field: &[[f64; 3]],

@@ -12,6 +12,9 @@
 //!   the paper; optional, on by default);
 //! - [`periodic`]: the periodic energy (§2.3–2.4, eqs. 13–15, Appendix B eq. 24);
 //! - [`solver`]: its minimization (§2.5: linear solve, then Newton on F** with the penalty);
+//! - [`dislocations`]: open triangles of opposite winding where the field is regular annihilated
+//!   in pairs, lone ones moved into a singular triangle of the field (not in the paper;
+//!   optional, on by default);
 //! - [`extraction`]: per-triangle (θ, φ) at the corners (§3.1, Algorithm 1);
 //! - [`untangle`]: negative (θ, φ) triangles next to singular points made positive by moving
 //!   vertex phases, every transition kept (not in the paper; optional, on by default);
@@ -29,13 +32,14 @@
 //! - [`split`]: N-sided singular charts split into quads (§3.4).
 //!
 //! Pipeline of [`pgp`]: field (curvature directions or the caller's) → optional smoothing →
-//! optional singularity-pair cancellation → optional curl correction → optional feature-adaptive density → periodic solve → per-corner
-//! (θ, φ) → optional untangling → singularities.
+//! optional singularity-pair cancellation → optional curl correction → optional feature-adaptive density → periodic solve →
+//! optional dislocation annihilation → per-corner (θ, φ) → optional untangling → singularities.
 
 pub mod charts;
 pub mod curl;
 pub mod curvature;
 pub mod density;
+pub mod dislocations;
 pub mod extraction;
 pub mod forced;
 pub mod frames;
@@ -94,6 +98,12 @@ pub struct PgpOptions {
     /// negative triangles next to singular points made positive without changing any
     /// transition. Default true; false gives Algorithm 1's output as it is.
     pub untangle: bool,
+    /// Dislocation-pair annihilation ([`dislocations`], not in the paper): open triangles of
+    /// opposite winding where the field is regular, closer than `dislocation_periods` periods,
+    /// removed together by turning the phases around them, and lone ones moved into a nearby
+    /// singular triangle of the field. Default
+    /// [`dislocations::DEFAULT_DISLOCATION_PERIODS`]; 0 keeps the periodic solve's phases.
+    pub dislocation_periods: f64,
     /// Periodic solve: ε (default [`solver::PERIODIC_EPSILON`] = 0.1; paper 10⁻³), gradient
     /// tolerance (10⁻⁶), iterations ([`solver::PERIODIC_ITERATIONS`] = 100).
     pub newton: NewtonOptions,
@@ -110,6 +120,7 @@ impl Default for PgpOptions {
             feature_periods: density::DEFAULT_FEATURE_PERIODS,
             pair_periods: pairs::DEFAULT_PAIR_PERIODS,
             untangle: true,
+            dislocation_periods: dislocations::DEFAULT_DISLOCATION_PERIODS,
             newton: NewtonOptions::default(),
         }
     }
@@ -140,6 +151,8 @@ pub struct PgpResult {
     pub untangled: untangle::UntangleReport,
     /// What the singularity-pair cancellation did ([`pairs`]).
     pub pairs: pairs::PairReport,
+    /// What the dislocation-pair annihilation did ([`dislocations`]).
+    pub dislocations: dislocations::DislocationReport,
 }
 
 /// ω = 2π / (10 × mean edge length) (see [`EDGES_PER_PERIOD`]).
@@ -159,6 +172,12 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
         return Err(Error::InvalidArgument(format!(
             "feature_periods must be finite and >= 0 (got {})",
             options.feature_periods
+        )));
+    }
+    if !(options.dislocation_periods.is_finite() && options.dislocation_periods >= 0.0) {
+        return Err(Error::InvalidArgument(format!(
+            "dislocation_periods must be finite and >= 0 (got {})",
+            options.dislocation_periods
         )));
     }
     if !(options.pair_periods.is_finite() && options.pair_periods >= 0.0) {
@@ -202,6 +221,12 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
     progress.report(0.35)?;
     let (mut unknowns, solve) =
         periodic::periodic_solve(mesh, &normals, &field, omega, &options.newton, progress, (0.35, 0.95))?;
+    let dislocations = if options.dislocation_periods > 0.0 {
+        let distance = options.dislocation_periods * std::f64::consts::TAU / omega;
+        dislocations::annihilate_dislocations(mesh, &normals, &field, &mut unknowns, omega, distance)?
+    } else {
+        dislocations::DislocationReport::default()
+    };
     let mut param = corner_parameterization(mesh, &normals, &field, &unknowns, omega);
     let untangled = if options.untangle {
         untangle::untangle(mesh, &mut param, &mut unknowns, &field, omega)
@@ -210,7 +235,19 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
     };
     let singularities = find_singularities(mesh, &param);
     progress.report(1.0)?;
-    Ok(PgpResult { param, singularities, field, normals, omega, unknowns, solve, smoothing, untangled, pairs })
+    Ok(PgpResult {
+        param,
+        singularities,
+        field,
+        normals,
+        omega,
+        unknowns,
+        solve,
+        smoothing,
+        untangled,
+        pairs,
+        dislocations,
+    })
 }
 
 /// `field` with each vertex's vector times its factor in `factors`.

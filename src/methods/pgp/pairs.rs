@@ -299,7 +299,7 @@ fn pair_paths(mesh: &TriMesh, indices: &[i64], distance: f64, blocked: &HashSet<
 
 /// Dijkstra over the dual graph from triangle `source`, up to `limit`: distance per reached
 /// triangle, and each triangle's predecessor.
-fn dual_search(mesh: &TriMesh, source: usize, limit: f64) -> (HashMap<usize, f64>, HashMap<usize, usize>) {
+pub(super) fn dual_search(mesh: &TriMesh, source: usize, limit: f64) -> (HashMap<usize, f64>, HashMap<usize, usize>) {
     let twin = &mesh.connectivity().twin;
     let mut dist = HashMap::from([(source, 0.0)]);
     let mut parent = HashMap::new();
@@ -327,7 +327,7 @@ fn dual_search(mesh: &TriMesh, source: usize, limit: f64) -> (HashMap<usize, f64
 }
 
 /// Triangles within `limit` of `source` and their dual distances.
-fn dual_distances(mesh: &TriMesh, source: usize, limit: f64) -> Vec<(usize, f64)> {
+pub(super) fn dual_distances(mesh: &TriMesh, source: usize, limit: f64) -> Vec<(usize, f64)> {
     dual_search(mesh, source, limit).0.into_iter().collect()
 }
 

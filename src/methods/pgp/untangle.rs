@@ -283,7 +283,7 @@ fn apply_move(mesh: &TriMesh, param: &mut CornerParameterization, v: u32, d: [f6
 }
 
 /// X with θ turned by m[0] and φ by m[1], norms kept.
-fn turn_phases(x: [f64; 4], m: [f64; 2]) -> [f64; 4] {
+pub(super) fn turn_phases(x: [f64; 4], m: [f64; 2]) -> [f64; 4] {
     let turn = |c: f64, s: f64, a: f64| (c * a.cos() - s * a.sin(), c * a.sin() + s * a.cos());
     let (u0, u1) = turn(x[0], x[1], m[0]);
     let (v0, v1) = turn(x[2], x[3], m[1]);
