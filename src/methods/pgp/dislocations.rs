@@ -50,7 +50,7 @@
 //! free vertex, about a thousand vertices at the default distance).
 
 use super::extraction::{angles, triangle_parameterization};
-use super::frames::{match_rotation, wrap_angle};
+use super::frames::{match_rotation, rotate_coords, wrap_angle};
 use super::pairs::{dual_distances, dual_search};
 use super::periodic::{corner_frames, expected_increments, rotate_unknowns};
 use super::singularities::signed_area2;
@@ -265,16 +265,6 @@ fn region(ctx: &Context, t: usize, radius: f64) -> Region {
     Region { triangles, free: free.into_iter().enumerate().map(|(i, v)| (v, i)).collect() }
 }
 
-/// P^r (s, t) with P(s, t) = (t, −s): a quarter turn of the unknowns ([`rotate_unknowns`])
-/// acting on (θ, φ).
-fn quarter(r: u8, x: [f64; 2]) -> [f64; 2] {
-    let mut y = x;
-    for _ in 0..r % 4 {
-        y = [y[1], -y[0]];
-    }
-    y
-}
-
 /// The quarter turn r with `P^r` taking (θ, φ) at `b` into `a`'s frame (eq. 13's matching).
 fn matching(ctx: &Context, a: usize, b: usize) -> u8 {
     match_rotation(ctx.field[a], ctx.normals[a], ctx.normals[b], ctx.field[b])
@@ -287,7 +277,7 @@ fn carry(ctx: &Context, from: usize, to: usize, w: [i64; 2]) -> [i64; 2] {
         return w;
     }
     let r = (4 - matching(ctx, from, to)) % 4;
-    quarter(r, w.map(|x| x as f64)).map(|x| x.round() as i64)
+    rotate_coords(r, w.map(|x| x as f64)).map(|x| x.round() as i64)
 }
 
 /// Winding (θ, φ) of triangle `t` in its corner 0's frame: the wrapped residuals of eq. 13's
@@ -375,7 +365,7 @@ fn phase_change(ctx: &Context, region: &Region, path: &[usize], w: [i64; 2], sta
         current = (a, carry(ctx, current.0, a, current.1));
         let c = current.1.map(|x| TAU * x as f64);
         // c is given on a → b in a's frame; the term of (min, max) is in min's frame.
-        let c = if a < b { c } else { quarter(matching(ctx, b, a), c).map(|x| -x) };
+        let c = if a < b { c } else { rotate_coords(matching(ctx, b, a), c).map(|x| -x) };
         let e = target.entry((a.min(b), a.max(b))).or_default();
         *e = [e[0] + c[0], e[1] + c[1]];
     }
@@ -392,11 +382,11 @@ fn phase_change(ctx: &Context, region: &Region, path: &[usize], w: [i64; 2], sta
         }
         if let Some(j) = fb {
             // Qᵀ c with Q = P^r: P^{−r}.
-            add_edge_rows(&mut diagonal, &mut rhs, j, quarter((4 - r) % 4, c));
+            add_edge_rows(&mut diagonal, &mut rhs, j, rotate_coords((4 - r) % 4, c));
         }
         if let (Some(i), Some(j)) = (fa, fb) {
             for k in 0..2 {
-                let column = quarter(r, [(k == 0) as u8 as f64, (k == 1) as u8 as f64]);
+                let column = rotate_coords(r, [(k == 0) as u8 as f64, (k == 1) as u8 as f64]);
                 for (l, &q) in column.iter().enumerate() {
                     if q != 0.0 {
                         // Block (a, b) = −Q: row 2i + l, column 2j + k.
@@ -482,6 +472,13 @@ mod tests {
         TriMesh::new(&positions, &tris).unwrap()
     }
 
+    /// The grid, one period per ten edges, flat normals and the field along x.
+    fn plane() -> (TriMesh, f64, Vec<[f64; 3]>, Vec<[f64; 3]>) {
+        let mesh = grid();
+        let n = mesh.vertex_count();
+        (mesh, TAU / 10.0, vec![[0.0, 0.0, 1.0]; n], vec![[1.0, 0.0, 0.0]; n])
+    }
+
     /// Plane waves θ = ω x, φ = ω y with vortices of θ of the given signs at the given points.
     fn waves(mesh: &TriMesh, omega: f64, vortices: &[([f64; 2], f64)]) -> Vec<[f64; 4]> {
         mesh.points()
@@ -507,10 +504,7 @@ mod tests {
 
     #[test]
     fn an_opposite_pair_of_dislocations_is_annihilated_and_nothing_else_opens() {
-        let mesh = grid();
-        let omega = TAU / 10.0;
-        let normals = vec![[0.0, 0.0, 1.0]; mesh.vertex_count()];
-        let field = vec![[1.0, 0.0, 0.0]; mesh.vertex_count()];
+        let (mesh, omega, normals, field) = plane();
         let mut unknowns = waves(&mesh, omega, &[(core(7.0, 10.0), 1.0), (core(12.0, 10.0), -1.0)]);
         // Two open triangles, and negative ones near the cores (the vortex turns θ faster than ω
         // within 1/ω of them).
@@ -525,10 +519,7 @@ mod tests {
 
     #[test]
     fn dislocations_of_one_sign_or_farther_than_the_distance_are_kept() {
-        let mesh = grid();
-        let omega = TAU / 10.0;
-        let normals = vec![[0.0, 0.0, 1.0]; mesh.vertex_count()];
-        let field = vec![[1.0, 0.0, 0.0]; mesh.vertex_count()];
+        let (mesh, omega, normals, field) = plane();
         for (signs, distance) in [([1.0, 1.0], TAU / omega), ([1.0, -1.0], 3.0)] {
             let original = waves(&mesh, omega, &[(core(7.0, 10.0), signs[0]), (core(12.0, 10.0), signs[1])]);
             let mut unknowns = original.clone();
