@@ -786,6 +786,21 @@ fn dislocation_annihilation_brings_the_coarse_knight_within_the_papers_range() {
 }
 
 #[test]
+fn a_fine_period_on_the_cheese_runs_through_the_dislocation_annihilation() {
+    // At ω = 265 (a period of about three mean edge lengths) some trial regions of the
+    // dislocation annihilation on cheese have free vertices without a free neighbour: a diagonal
+    // system, for which faer's AMD analysis counts no flops and picks its simplicial structure,
+    // and PGP failed with "internal error: the multifrontal factorization needs a supernodal
+    // symbolic analysis" (found 2026-12-04). It must run, and Hopf–Poincaré hold.
+    let mesh = load("closed_g133_cheese.obj");
+    let options = PgpOptions { omega: Some(265.0), ..PgpOptions::default() };
+    let r = pgp(&mesh, &options, &mut Progress::none()).unwrap_or_else(|e| panic!("cheese at omega 265: {e}"));
+    let d = r.dislocations;
+    assert!(d.trials > 0 && 2 * d.pairs + d.absorbed <= d.before, "{d:?}");
+    assert!((r.singularities.index_sum() - (2.0 - 2.0 * 133.0)).abs() < 1e-6, "{}", r.singularities.index_sum());
+}
+
+#[test]
 fn newton_reaches_the_papers_gradient_tolerance_by_default() {
     // §2.5: Newton on F** until ‖∇F**‖ < 10⁻⁶. The damped Newton steps converge on real closed
     // meshes of genus 0 and 4 (measured: fertility 25 iterations, spot 28–30, kitten 42) within

@@ -311,10 +311,23 @@ fn symbolic_cholesky(
             }
             let ord = SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, n));
             factorize_symbolic_cholesky(lower, Side::Lower, ord, supernodal())
+                .map_err(|e| Error::Internal(format!("symbolic Cholesky failed: {e:?}")))
         }
-        None => factorize_symbolic_cholesky(lower, Side::Lower, SymmetricOrdering::Amd, supernodal()),
+        None => {
+            let symbolic = factorize_symbolic_cholesky(lower, Side::Lower, SymmetricOrdering::Amd, supernodal())
+                .map_err(|e| Error::Internal(format!("symbolic Cholesky failed: {e:?}")))?;
+            match (symbolic.raw(), symbolic.perm()) {
+                // AMD counts no flops for a diagonal matrix (no off-diagonal entry: e.g. a
+                // fixed-boundary map whose interior vertices are not adjacent), and faer then
+                // picks its simplicial structure even when the supernodal one is forced; the same
+                // order given as a custom one is analysed as supernodal.
+                (SymbolicCholeskyRaw::Simplicial(_), Some(perm)) if n > 0 => {
+                    symbolic_cholesky(lower, Some(perm.arrays().0.to_vec()))
+                }
+                _ => Ok(symbolic),
+            }
+        }
     }
-    .map_err(|e| Error::Internal(format!("symbolic Cholesky failed: {e:?}")))
 }
 
 /// The columns (of the factor's numbering) in a postorder of the supernodal elimination tree —

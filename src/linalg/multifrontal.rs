@@ -814,6 +814,20 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn a_diagonal_system_ordered_by_amd_is_factored_and_solved() {
+        // AMD counts no flops for a matrix without off-diagonal entries; faer then picks its
+        // simplicial analysis, which the multifrontal factorization cannot use.
+        use crate::linalg::CholeskySolver;
+        let matrix = lower_from_entries(&[2.0, 4.0, 8.0], Vec::new()).expect("matrix");
+        let solver = CholeskySolver::new(&matrix, None).expect("a diagonal system factors");
+        let mut b = Mat::<f64>::from_fn(3, 1, |i, _| 1.0 + i as f64);
+        solver.solve_in_place(&mut b).expect("solve");
+        for (i, x) in [0.5, 0.5, 0.375].into_iter().enumerate() {
+            assert!((b[(i, 0)] - x).abs() < 1e-15, "unknown {i}: {} vs {x}", b[(i, 0)]);
+        }
+    }
+
+    #[test]
     fn multifrontal_factor_solves_a_hermitian_system() {
         let (diagonal, lower, coords) = grid_matrix(23);
         let n = diagonal.len();
