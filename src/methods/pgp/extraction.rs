@@ -81,10 +81,24 @@ pub(super) fn triangle_parameterization(
     omega: f64,
     t: usize,
 ) -> TriangleParam {
+    let corners = mesh.triangles()[t].map(|v| unknowns[v as usize]);
+    corner_triangle_parameterization(mesh, normals, field, corners, omega, t)
+}
+
+/// Algorithm 1 on triangle `t` with `corners` the unknowns of its three vertices (in its
+/// corner order), whatever the unknowns array holds.
+pub(super) fn corner_triangle_parameterization(
+    mesh: &TriMesh,
+    normals: &[[f64; 3]],
+    field: &[[f64; 3]],
+    corners: [[f64; 4]; 3],
+    omega: f64,
+    t: usize,
+) -> TriangleParam {
     let tri = mesh.triangles()[t];
     let p = tri.map(|v| mesh.points()[v as usize]);
     let frames = corner_frames(mesh, normals, field, t);
-    let base: [[f64; 2]; 3] = std::array::from_fn(|c| angles(rotate_unknowns(frames[c].0, unknowns[tri[c] as usize])));
+    let base: [[f64; 2]; 3] = std::array::from_fn(|c| angles(rotate_unknowns(frames[c].0, corners[c])));
     let mut coords = [base[0]; 3];
     let mut shift = [[0i64; 2]; 3];
     for c in 1..3 {
@@ -92,7 +106,7 @@ pub(super) fn triangle_parameterization(
         shift[c] = [nearest_period(coords[0][0] + d - base[c][0]), nearest_period(coords[0][1] + dp - base[c][1])];
         coords[c] = [base[c][0] + TAU * shift[c][0] as f64, base[c][1] + TAU * shift[c][1] as f64];
     }
-    let open = !closes(mesh, normals, field, unknowns, omega, t, &frames, &coords, &shift);
+    let open = !closes(mesh, normals, field, corners[2], omega, t, &frames, &coords, &shift);
     TriangleParam { coords, rotation: frames.map(|f| f.0), shift, open }
 }
 
@@ -103,13 +117,13 @@ pub fn nearest_period(x: f64) -> i64 {
 }
 
 /// Whether propagating from corner 1 to corner 2 (Algorithm 1 along the third edge) gives back
-/// corner 2's rotation and translations.
+/// corner 2's rotation and translations (`corner2`: the unknowns of corner 2's vertex).
 #[allow(clippy::too_many_arguments)]
 fn closes(
     mesh: &TriMesh,
     normals: &[[f64; 3]],
     field: &[[f64; 3]],
-    unknowns: &[[f64; 4]],
+    corner2: [f64; 4],
     omega: f64,
     t: usize,
     frames: &[(u8, [f64; 3], [f64; 3]); 3],
@@ -128,7 +142,7 @@ fn closes(
     along[2] = (r, k2, cross(normals[v2], k2));
     let p = tri.map(|v| mesh.points()[v as usize]);
     let (d, dp) = expected_increments(&p, &along, omega, 1, 2);
-    let base = angles(rotate_unknowns(r, unknowns[v2]));
+    let base = angles(rotate_unknowns(r, corner2));
     let s = [nearest_period(coords[1][0] + d - base[0]), nearest_period(coords[1][1] + dp - base[1])];
     s == shift[2]
 }
