@@ -188,9 +188,9 @@ const LOOKAHEAD: usize = 4;
 
 /// One round: each candidate `(t1, t2, distance)` of `list` tried once, in order, while the
 /// budget lasts. Trials run in batches (of `batch_size` at most) of candidates whose regions
-/// share no triangle with one
-/// another nor with an earlier candidate still to run: a trial reads and writes only its
-/// region, so the outcome is the one-at-a-time order's. Returns the changes kept.
+/// share no triangle with one another nor with an earlier candidate still to run: a trial
+/// reads and writes only its region, so the outcome is the one-at-a-time order's. Returns the
+/// changes kept.
 fn run_round(
     ctx: &Context,
     phases: &mut Phases,
