@@ -301,6 +301,11 @@
 #define ANTIPODAL_TOLERANCE 1e-9
 
 /**
+ * λ over the mean diagonal entry of the fit.
+ */
+#define RELAX_REGULARIZATION 1e-4
+
+/**
  * Angle-sum tolerance of the singular-vertex test (radians).
  */
 #define ANGLE_SUM_TOLERANCE 1e-6
@@ -1308,6 +1313,14 @@ typedef struct UvfPgpOptions {
    * solve's phases. Added after `pair_periods`: callers built before it get the default.
    */
   double dislocation_periods;
+  /**
+   * Non-zero (default 1): before the untangling, turn every vertex's phases by the
+   * least-squares fit of the (θ, φ) triangles to the field, Algorithm 1's integers (hence
+   * every transition and open triangle) kept, and use it only where it leaves no more
+   * singular triangles (not in the paper; see the README). 0: no relaxation. Added after
+   * `dislocation_periods`: callers built before it get the default.
+   */
+  uint32_t relax;
 } UvfPgpOptions;
 
 /**

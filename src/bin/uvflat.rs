@@ -89,6 +89,12 @@ struct PgpArgs {
     /// not in the paper, see the README).
     #[arg(long = "no-untangle")]
     no_untangle: bool,
+    /// No phase relaxation before the untangling (the relaxation turns every vertex's phases by
+    /// the least-squares fit of the (theta, phi) triangles to the field, keeping every
+    /// transition, and is used only where it leaves no more singular triangles; not in the
+    /// paper, see the README).
+    #[arg(long = "no-relax")]
+    no_relax: bool,
     /// Minimum number of periods around a curved feature: where a curvature radius r holds fewer
     /// than C periods (omega r < C), the frequency is raised there (at most 2.5x) so that legs,
     /// horns and fingers narrower than a period are not singular standing waves (not in the
@@ -703,6 +709,7 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
         omega: args.omega,
         curl_correction: args.curl_correction,
         untangle: !args.no_untangle,
+        relax: !args.no_relax,
         feature_periods: args.feature_periods,
         pair_periods: args.pair_periods,
         dislocation_periods: args.dislocation_periods,
@@ -785,6 +792,11 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
                     "negative_before": result.untangled.negative_before,
                     "negative_after": result.untangled.negative_after,
                     "moved_vertices": result.untangled.moved_vertices,
+                }),
+                "relaxed": serde_json::json!({
+                    "kept": result.relaxed.kept,
+                    "singular_without": result.relaxed.singular_without,
+                    "singular_with": result.relaxed.singular_with,
                 }),
                 "stretch": q.stretch, "shear": q.shear, "alignment_degrees": q.alignment_degrees,
                 "output": args.output.display().to_string(),

@@ -202,6 +202,12 @@ pub struct UvfPgpOptions {
     /// phases around them (default 1.5; not in the paper, see the README). 0: keep the periodic
     /// solve's phases. Added after `pair_periods`: callers built before it get the default.
     pub dislocation_periods: f64,
+    /// Non-zero (default 1): before the untangling, turn every vertex's phases by the
+    /// least-squares fit of the (θ, φ) triangles to the field, Algorithm 1's integers (hence
+    /// every transition and open triangle) kept, and use it only where it leaves no more
+    /// singular triangles (not in the paper; see the README). 0: no relaxation. Added after
+    /// `dislocation_periods`: callers built before it get the default.
+    pub relax: u32,
 }
 
 impl Default for UvfPgpOptions {
@@ -227,6 +233,7 @@ impl Default for UvfPgpOptions {
             feature_periods: DEFAULT_FEATURE_PERIODS,
             pair_periods: DEFAULT_PAIR_PERIODS,
             dislocation_periods: DEFAULT_DISLOCATION_PERIODS,
+            relax: 1,
         }
     }
 }
@@ -316,6 +323,7 @@ fn pgp_options(o: &UvfPgpOptions, vertex_count: usize) -> Result<PgpOptions> {
         }),
         curl_correction: o.curl_correction != 0,
         untangle: o.untangle != 0,
+        relax: o.relax != 0,
         feature_periods: o.feature_periods,
         pair_periods: o.pair_periods,
         dislocation_periods: o.dislocation_periods,

@@ -536,7 +536,7 @@ static void check_pgp(void) {
     check(options.struct_size == sizeof options && options.smoothing == UVF_SMOOTH_HALF_PI && options.omega == 0.0 &&
               options.epsilon == 0.1 && options.max_newton_iterations == 100 && options.rho == 0.8 &&
               options.untangle == 1 && options.feature_periods == 3.0 && options.pair_periods == 0.5 &&
-              options.dislocation_periods == 1.5,
+              options.dislocation_periods == 1.5 && options.relax == 1,
           "pgp defaults");
     status = uvf_pgp(pos, nv, tris, nt, &options, corners, &pgp);
     check(status == UVF_OK && pgp != NULL, "pgp of a torus");
@@ -688,6 +688,11 @@ static void check_pgp(void) {
           "a negative dislocation_periods is refused, naming it");
     options.dislocation_periods = 0.0;
     check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_OK, "pgp without dislocation annihilation");
+    options.relax = 0;
+    check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_OK, "pgp without phase relaxation");
+    /* Callers built before `relax` existed (fifth version) get its default. */
+    options.struct_size = offsetof(UvfPgpOptions, relax);
+    check(uvf_pgp(pos, nv, tris, nt, &options, corners, NULL) == UVF_OK, "fifth-version pgp options are accepted");
     /* Callers built before `dislocation_periods` existed (fourth version) get its default. */
     options.dislocation_periods = -1.0;
     options.struct_size = offsetof(UvfPgpOptions, dislocation_periods);

@@ -982,11 +982,12 @@ def test_pgp_equals_the_cli_and_its_indices_sum_to_the_euler_characteristic(tmp_
 
 def test_pgp_untangling_repairs_negative_triangles_and_can_be_turned_off(tmp_path):
     # The untangling (on by default, not in Ray et al. 2006) moves vertex phases only: the
-    # singular edges (transitions) stay, fewer (θ, φ) triangles are negative or singular.
+    # singular edges (transitions) stay, fewer (θ, φ) triangles are negative or singular. Without
+    # the phase relaxation, to measure the untangling alone.
     name = "closed_g0_cow.obj"
     p, t = load_mesh(name)
-    raw = uvflat.pgp(p, t, untangle=False)
-    fixed = uvflat.pgp(p, t)
+    raw = uvflat.pgp(p, t, untangle=False, relax=False)
+    fixed = uvflat.pgp(p, t, relax=False)
 
     def negative(r):
         c = r.corner_coords
@@ -997,13 +998,37 @@ def test_pgp_untangling_repairs_negative_triangles_and_can_be_turned_off(tmp_pat
     assert len(fixed.singular_triangles) < len(raw.singular_triangles)
     np.testing.assert_array_equal(raw.singular_edges, fixed.singular_edges)
     out = tmp_path / "pgp.obj"
-    plain = json.loads(run_cli("pgp", str(mesh_path(name)), "-o", str(out), "--json", "--no-untangle").stdout)
+    args = ("pgp", str(mesh_path(name)), "-o", str(out), "--json", "--no-relax")
+    plain = json.loads(run_cli(*args, "--no-untangle").stdout)
     assert plain["singular_triangles"] == len(raw.singular_triangles)
     assert plain["untangled"]["moved_vertices"] == 0
-    default = json.loads(run_cli("pgp", str(mesh_path(name)), "-o", str(out), "--json").stdout)
+    default = json.loads(run_cli(*args).stdout)
     assert default["singular_triangles"] == len(fixed.singular_triangles)
     u = default["untangled"]
     assert u["negative_after"] < u["negative_before"] and u["moved_vertices"] > 0
+
+
+def test_pgp_phase_relaxation_keeps_every_transition_and_can_be_turned_off(tmp_path):
+    # The phase relaxation (on by default, not in Ray et al. 2006) turns vertex phases by a
+    # least-squares fit with Algorithm 1's integers kept: the singular edges stay; on eight
+    # (genus 2) the singular triangles went 13 -> 8. The CLI reports both counts.
+    name = "closed_g2_eight.obj"
+    p, t = load_mesh(name)
+    plain = uvflat.pgp(p, t, relax=False)
+    relaxed = uvflat.pgp(p, t)
+    np.testing.assert_array_equal(plain.singular_edges, relaxed.singular_edges)
+    assert len(relaxed.singular_triangles) < len(plain.singular_triangles)
+    assert relaxed.indices.sum() == pytest.approx(-2)
+    out = tmp_path / "pgp.obj"
+    off = json.loads(run_cli("pgp", str(mesh_path(name)), "-o", str(out), "--json", "--no-relax").stdout)
+    assert off["relaxed"]["kept"] is False and off["singular_triangles"] == len(plain.singular_triangles)
+    on = json.loads(run_cli("pgp", str(mesh_path(name)), "-o", str(out), "--json").stdout)
+    assert on["relaxed"] == {
+        "kept": True,
+        "singular_without": len(plain.singular_triangles),
+        "singular_with": len(relaxed.singular_triangles),
+    }
+    assert on["singular_triangles"] == len(relaxed.singular_triangles)
 
 
 def test_pgp_feature_adaptive_density_and_the_papers_single_omega_agree_with_the_cli(tmp_path):

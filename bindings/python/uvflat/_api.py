@@ -1102,6 +1102,7 @@ def pgp(
     feature_periods: float = 3.0,
     pair_periods: float = 0.5,
     dislocation_periods: float = 1.5,
+    relax: bool = True,
 ) -> PgpResult:
     """Periodic Global Parameterization (Ray, Li, Lévy, Sheffer, Alliez 2006; ``uvf_pgp``) of a
     manifold mesh of any genus, without cutting: principal-curvature field (or ``field``, an
@@ -1125,7 +1126,10 @@ def pgp(
     ``dislocation_periods``: open triangles of opposite winding where the field is regular
     (dislocations of the wave pattern) closer than this many periods are annihilated together by
     turning the phases around them (not in the paper; see the README); 0 keeps the periodic
-    solve's phases.
+    solve's phases. ``relax=False`` skips the phase relaxation that by default runs before the
+    untangling: every vertex's phases turned by the least-squares fit of the (θ, φ) triangles to
+    the field, every transition kept, used only where it leaves no more singular triangles (not
+    in the paper; see the README).
 
     ``quad_mesh`` (a whole number of iso-lines per period, e.g. 8) also returns the quad-dominant
     remesh of §5 (vertices on the surface, non-quads split into quads and triangles; quad sides
@@ -1146,6 +1150,7 @@ def pgp(
     options.feature_periods = float(feature_periods)
     options.pair_periods = float(pair_periods)
     options.dislocation_periods = float(dislocation_periods)
+    options.relax = 1 if relax else 0
     options.rho = float(rho)
     options.epsilon = float(epsilon)
     if isinstance(max_newton_iterations, bool) or int(max_newton_iterations) != max_newton_iterations:

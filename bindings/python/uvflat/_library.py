@@ -443,6 +443,7 @@ class UvfPgpOptions(Structure):
         ("feature_periods", c_double),
         ("pair_periods", c_double),
         ("dislocation_periods", c_double),
+        ("relax", c_uint32),
     ]
 
 

@@ -16,6 +16,9 @@
 //!   in pairs, lone ones moved into a singular triangle of the field (not in the paper;
 //!   optional, on by default);
 //! - [`extraction`]: per-triangle (θ, φ) at the corners (§3.1, Algorithm 1);
+//! - [`relax`]: every vertex's phases turned by the least-squares fit of the (θ, φ) triangles to
+//!   the field with Algorithm 1's integers kept, where that leaves fewer singular triangles (not
+//!   in the paper; optional, on by default);
 //! - [`untangle`]: negative (θ, φ) triangles next to singular points made positive by moving
 //!   vertex phases, every transition kept (not in the paper; optional, on by default);
 //! - [`singularities`]: singular vertices, edges, triangles and indices (§3.2);
@@ -33,7 +36,8 @@
 //!
 //! Pipeline of [`pgp`]: field (curvature directions or the caller's) → optional smoothing →
 //! optional singularity-pair cancellation → optional curl correction → optional feature-adaptive density → periodic solve →
-//! optional dislocation annihilation → per-corner (θ, φ) → optional untangling → singularities.
+//! optional dislocation annihilation → per-corner (θ, φ) → optional relaxation → optional
+//! untangling → singularities.
 
 pub mod charts;
 pub mod curl;
@@ -49,6 +53,7 @@ pub mod pairs;
 pub mod periodic;
 pub mod quality;
 pub mod refine;
+pub mod relax;
 pub mod remesh;
 pub mod singularities;
 pub mod smoothing;
@@ -98,6 +103,11 @@ pub struct PgpOptions {
     /// negative triangles next to singular points made positive without changing any
     /// transition. Default true; false gives Algorithm 1's output as it is.
     pub untangle: bool,
+    /// Global phase relaxation before the untangling ([`relax`], not in the paper): every
+    /// vertex's phases turned by the least-squares fit of the (θ, φ) triangles to the field with
+    /// every integer of Algorithm 1 kept, used only when it leaves no more singular triangles.
+    /// Default true.
+    pub relax: bool,
     /// Dislocation-pair annihilation ([`dislocations`], not in the paper): open triangles of
     /// opposite winding where the field is regular, closer than `dislocation_periods` periods,
     /// removed together by turning the phases around them, and lone ones moved into a nearby
@@ -120,6 +130,7 @@ impl Default for PgpOptions {
             feature_periods: density::DEFAULT_FEATURE_PERIODS,
             pair_periods: pairs::DEFAULT_PAIR_PERIODS,
             untangle: true,
+            relax: true,
             dislocation_periods: dislocations::DEFAULT_DISLOCATION_PERIODS,
             newton: NewtonOptions::default(),
         }
@@ -149,6 +160,8 @@ pub struct PgpResult {
     pub smoothing: Option<SolveReport>,
     /// What the untangling of the per-corner (θ, φ) did ([`untangle`]).
     pub untangled: untangle::UntangleReport,
+    /// What the phase relaxation did ([`relax`]; all zero when it was off).
+    pub relaxed: relax::RelaxReport,
     /// What the singularity-pair cancellation did ([`pairs`]).
     pub pairs: pairs::PairReport,
     /// What the dislocation-pair annihilation did ([`dislocations`]).
@@ -228,10 +241,11 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
         dislocations::DislocationReport::default()
     };
     let mut param = corner_parameterization(mesh, &normals, &field, &unknowns, omega);
-    let untangled = if options.untangle {
-        untangle::untangle(mesh, &mut param, &mut unknowns, &field, omega)
+    let (untangled, relaxed) = if options.relax {
+        relax::relax_if_better(mesh, &normals, &field, &mut param, &mut unknowns, omega, options.untangle)?
     } else {
-        untangle::UntangleReport::untouched(&param)
+        let report = relax::untangled(mesh, &mut param, &mut unknowns, &field, omega, options.untangle);
+        (report, relax::RelaxReport::default())
     };
     let singularities = find_singularities(mesh, &param);
     progress.report(1.0)?;
@@ -245,6 +259,7 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
         solve,
         smoothing,
         untangled,
+        relaxed,
         pairs,
         dislocations,
     })

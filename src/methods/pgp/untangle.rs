@@ -274,7 +274,7 @@ fn shape_ratio(mesh: &TriMesh, t: usize, k: usize) -> [f64; 2] {
 }
 
 /// Moves v's corners by `P^ρ d`.
-fn apply_move(mesh: &TriMesh, param: &mut CornerParameterization, v: u32, d: [f64; 2]) {
+pub(super) fn apply_move(mesh: &TriMesh, param: &mut CornerParameterization, v: u32, d: [f64; 2]) {
     let corners: Vec<(usize, usize)> = corners_at(mesh, v).collect();
     for (t, k) in corners {
         let m = rotate(param.rotation[t][k], d);
