@@ -129,6 +129,72 @@ fn rotation_matrix(r: u8) -> [[f64; 2]; 2] {
     [[c0[0], c1[0]], [c0[1], c1[1]]]
 }
 
+/// The normal equations of the fit, 2 rows per block (referenced vertex).
+struct Fit {
+    diagonal: Vec<f64>,
+    entries: Vec<(u32, u32, f64)>,
+    rhs: Mat<f64>,
+}
+
+impl Fit {
+    fn new(blocks: usize) -> Self {
+        Fit { diagonal: vec![0.0; 2 * blocks], entries: Vec::new(), rhs: Mat::zeros(2 * blocks, 1) }
+    }
+
+    /// Adds `w ‖R_j Δ_j − R_i Δ_i + e‖²` for blocks i, j with rotations `R = P^r`: gradient
+    /// `w R_jᵀ r` at j and `−w R_iᵀ r` at i, off-diagonal block `−w R_iᵀ R_j = −w P^(rj − ri)`.
+    fn add_edge(&mut self, (bi, ri): (usize, u8), (bj, rj): (usize, u8), w: f64, e: [f64; 2]) {
+        let (gi, gj) = (rotate_coords((4 - ri) % 4, e), rotate_coords((4 - rj) % 4, e));
+        for l in 0..2 {
+            self.diagonal[2 * bi + l] += w;
+            self.diagonal[2 * bj + l] += w;
+            self.rhs[(2 * bi + l, 0)] += w * gi[l];
+            self.rhs[(2 * bj + l, 0)] -= w * gj[l];
+        }
+        for (l, row) in rotation_matrix((4 + rj - ri) % 4).iter().enumerate() {
+            for (c, &x) in row.iter().enumerate().filter(|&(_, &x)| x != 0.0) {
+                let (a, b) = (2 * bi + l, 2 * bj + c);
+                self.entries.push((a.max(b) as u32, a.min(b) as u32, -w * x));
+            }
+        }
+    }
+
+    /// Adds the terms of triangle t's three edges (`block`: the block of each vertex).
+    fn add_triangle(
+        &mut self,
+        ctx: (&TriMesh, &[[f64; 3]], &[[f64; 3]], f64),
+        param: &CornerParameterization,
+        block: &[u32],
+        t: usize,
+    ) {
+        let (mesh, normals, field, omega) = ctx;
+        let tri = mesh.triangles()[t];
+        let p = tri.map(|v| mesh.points()[v as usize]);
+        let Some(cot) = cotangents(&p) else { return };
+        let frames = corner_frames(mesh, normals, field, t);
+        let q = &param.coords[t];
+        for (k, cot) in cot.into_iter().enumerate() {
+            let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+            let (d, dp) = expected_increments(&p, &frames, omega, i, j);
+            let e = [q[j][0] - q[i][0] - d, q[j][1] - q[i][1] - dp];
+            let bi = (block[tri[i] as usize] as usize, param.rotation[t][i]);
+            let bj = (block[tri[j] as usize] as usize, param.rotation[t][j]);
+            self.add_edge(bi, bj, 0.5 * cot, e);
+        }
+    }
+
+    /// Δ per block: the solution with λ = [`RELAX_REGULARIZATION`] times the mean diagonal.
+    fn solve(mut self) -> Result<Vec<[f64; 2]>> {
+        let n = self.diagonal.len() / 2;
+        let mean = self.diagonal.iter().map(|x| x.abs()).sum::<f64>() / self.diagonal.len().max(1) as f64;
+        let lambda = RELAX_REGULARIZATION * mean.max(f64::MIN_POSITIVE);
+        self.diagonal.iter_mut().for_each(|x| *x += lambda);
+        let lower = lower_from_entries(&self.diagonal, self.entries)?;
+        CholeskySolver::new(&lower, None)?.solve_in_place(&mut self.rhs)?;
+        Ok((0..n).map(|b| [self.rhs[(2 * b, 0)], self.rhs[(2 * b + 1, 0)]]).collect())
+    }
+}
+
 /// Relaxes `param` and `unknowns` in place (module comment); returns the number of vertices
 /// whose phases moved.
 pub fn relax_phases(
@@ -140,62 +206,17 @@ pub fn relax_phases(
     omega: f64,
 ) -> Result<usize> {
     let mut block = vec![NONE; mesh.vertex_count()];
-    let mut vertex_of = Vec::new();
-    for v in 0..mesh.vertex_count() as u32 {
-        if mesh.is_referenced(v) {
-            block[v as usize] = vertex_of.len() as u32;
-            vertex_of.push(v);
-        }
-    }
-    let n = vertex_of.len();
-    let mut diagonal = vec![0.0; 2 * n];
-    let mut entries: Vec<(u32, u32, f64)> = Vec::new();
-    let mut rhs = Mat::<f64>::zeros(2 * n, 1);
-    for t in 0..mesh.triangle_count() {
-        if param.open[t] {
-            continue;
-        }
-        let tri = mesh.triangles()[t];
-        let p = tri.map(|v| mesh.points()[v as usize]);
-        let Some(cot) = cotangents(&p) else { continue };
-        let frames = corner_frames(mesh, normals, field, t);
-        for k in 0..3 {
-            let (i, j) = ((k + 1) % 3, (k + 2) % 3);
-            let w = 0.5 * cot[k];
-            let (d, dp) = expected_increments(&p, &frames, omega, i, j);
-            let q = &param.coords[t];
-            let e = [q[j][0] - q[i][0] - d, q[j][1] - q[i][1] - dp];
-            let (bi, bj) = (block[tri[i] as usize] as usize, block[tri[j] as usize] as usize);
-            let (ri, rj) = (param.rotation[t][i], param.rotation[t][j]);
-            // Residual r = R_j Δ_j − R_i Δ_i + e: gradient w R_jᵀ r at j, −w R_iᵀ r at i.
-            let (gi, gj) = (rotate_coords((4 - ri) % 4, e), rotate_coords((4 - rj) % 4, e));
-            for l in 0..2 {
-                diagonal[2 * bi + l] += w;
-                diagonal[2 * bj + l] += w;
-                rhs[(2 * bi + l, 0)] += w * gi[l];
-                rhs[(2 * bj + l, 0)] -= w * gj[l];
-            }
-            // Block (i, j) = −w R_iᵀ R_j = −w P^(rj − ri).
-            let m = rotation_matrix((4 + rj - ri) % 4);
-            for (l, row) in m.iter().enumerate() {
-                for (c, &x) in row.iter().enumerate() {
-                    if x != 0.0 {
-                        let (a, b) = (2 * bi + l, 2 * bj + c);
-                        entries.push((a.max(b) as u32, a.min(b) as u32, -w * x));
-                    }
-                }
-            }
-        }
-    }
-    let mean = diagonal.iter().map(|x| x.abs()).sum::<f64>() / diagonal.len().max(1) as f64;
-    let lambda = RELAX_REGULARIZATION * mean.max(f64::MIN_POSITIVE);
-    diagonal.iter_mut().for_each(|x| *x += lambda);
-    let lower = lower_from_entries(&diagonal, entries)?;
-    CholeskySolver::new(&lower, None)?.solve_in_place(&mut rhs)?;
-    let mut moved = 0;
+    let vertex_of: Vec<u32> = (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_referenced(v)).collect();
     for (b, &v) in vertex_of.iter().enumerate() {
-        let d = [rhs[(2 * b, 0)], rhs[(2 * b + 1, 0)]];
-        if d[0] != 0.0 || d[1] != 0.0 {
+        block[v as usize] = b as u32;
+    }
+    let mut fit = Fit::new(vertex_of.len());
+    for t in (0..mesh.triangle_count()).filter(|&t| !param.open[t]) {
+        fit.add_triangle((mesh, normals, field, omega), param, &block, t);
+    }
+    let mut moved = 0;
+    for (&v, d) in vertex_of.iter().zip(fit.solve()?) {
+        if d != [0.0, 0.0] {
             apply_move(mesh, param, v, d);
             unknowns[v as usize] = turn_phases(unknowns[v as usize], d);
             moved += 1;
