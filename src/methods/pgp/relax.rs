@@ -230,34 +230,9 @@ mod tests {
     use super::*;
     use crate::methods::pgp::extraction::angles;
     use crate::methods::pgp::singularities::signed_area2;
-
-    /// An n × n grid of unit squares in the plane, split along one diagonal, with the
-    /// isometric parameterization (θ, φ) = (x, y) at ω = 1 for the field (1, 0, 0); vertex `v`'s
-    /// corners carry rotation `r` (its phases are P^(−r) (x, y)).
-    fn grid(n: u32, v: u32, r: u8) -> (TriMesh, CornerParameterization, Vec<[f64; 4]>) {
-        let id = |i: u32, j: u32| j * (n + 1) + i;
-        let positions: Vec<f64> = (0..=n).flat_map(|j| (0..=n).flat_map(move |i| [i as f64, j as f64, 0.0])).collect();
-        let mut tris = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                tris.extend([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-            }
-        }
-        let mesh = TriMesh::new(&positions, &tris).unwrap();
-        let xy = |w: u32| [mesh.points()[w as usize][0], mesh.points()[w as usize][1]];
-        let rotation: Vec<[u8; 3]> = mesh.triangles().iter().map(|t| t.map(|w| if w == v { r } else { 0 })).collect();
-        let coords = mesh.triangles().iter().map(|t| t.map(xy)).collect();
-        let count = mesh.triangle_count();
-        let param =
-            CornerParameterization { coords, rotation, shift: vec![[[0; 2]; 3]; count], open: vec![false; count] };
-        let unknowns = (0..mesh.vertex_count() as u32)
-            .map(|w| {
-                let p = if w == v { rotate_coords((4 - r) % 4, xy(w)) } else { xy(w) };
-                [p[0].cos(), p[0].sin(), p[1].cos(), p[1].sin()]
-            })
-            .collect();
-        (mesh, param, unknowns)
-    }
+    // An n × n grid of unit squares, the isometric parameterization (θ, φ) = (x, y) at ω = 1
+    // (for the field (1, 0, 0)), vertex v's corners with rotation r.
+    use crate::methods::pgp::untangle::tests::grid;
 
     #[test]
     fn phases_pushed_across_their_neighbours_are_relaxed_back_to_the_isometric_map() {

@@ -291,12 +291,12 @@ pub(super) fn turn_phases(x: [f64; 4], m: [f64; 2]) -> [f64; 4] {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     /// An n × n grid of unit squares in the plane, split along one diagonal, with the
     /// isometric parameterization (θ, φ) = (x, y) at ω = 1 and vertex `v` given rotation `r`.
-    fn grid(n: u32, v: u32, r: u8) -> (TriMesh, CornerParameterization, Vec<[f64; 4]>) {
+    pub(in crate::methods::pgp) fn grid(n: u32, v: u32, r: u8) -> (TriMesh, CornerParameterization, Vec<[f64; 4]>) {
         let id = |i: u32, j: u32| j * (n + 1) + i;
         let mut positions = Vec::new();
         for j in 0..=n {
