@@ -47,7 +47,7 @@ use super::frames::rotate_coords;
 use super::periodic::{corner_frames, expected_increments};
 use super::singularities::singular_triangle_count;
 use super::untangle::{apply_move, turn_phases, untangle, UntangleReport};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::geometry::{cross, dot, norm, sub};
 use crate::linalg::{lower_from_entries, CholeskySolver};
 use crate::mesh::NONE;
@@ -100,7 +100,15 @@ pub fn relax_if_better(
     let (mut relaxed, mut relaxed_unknowns) = (param.clone(), unknowns.to_vec());
     let plain = untangled(mesh, param, unknowns, field, omega, untangle);
     let without = singular_triangle_count(param);
-    relax_phases(mesh, normals, field, &mut relaxed, &mut relaxed_unknowns, omega)?;
+    match relax_phases(mesh, normals, field, &mut relaxed, &mut relaxed_unknowns, omega) {
+        Ok(_) => {}
+        // A fit the factorization refuses (round-off on nearly degenerate triangles) is not
+        // used: the untangled parameterization stands.
+        Err(Error::Numerical(_)) => {
+            return Ok((plain, RelaxReport { kept: false, singular_without: without, singular_with: without }))
+        }
+        Err(e) => return Err(e),
+    }
     let report = untangled(mesh, &mut relaxed, &mut relaxed_unknowns, field, omega, untangle);
     let with = singular_triangle_count(&relaxed);
     let kept = with <= without;
@@ -112,12 +120,17 @@ pub fn relax_if_better(
     Ok((if kept { report } else { plain }, relax))
 }
 
-/// Cotangents of the three angles of a 3D triangle; `None` when it is degenerate.
+/// Sine of an angle below which a triangle is left out of the fit (its cotangent weights would
+/// exceed 10⁶ and swamp the others' round-off).
+const DEGENERATE_SINE: f64 = 1e-6;
+
+/// Cotangents of the three angles of a 3D triangle; `None` when an angle's sine is below
+/// [`DEGENERATE_SINE`].
 fn cotangents(p: &[[f64; 3]; 3]) -> Option<[f64; 3]> {
     let cot = |k: usize| {
         let (a, b) = (sub(p[(k + 1) % 3], p[k]), sub(p[(k + 2) % 3], p[k]));
         let s = norm(cross(a, b));
-        (s > 1e-14 * dot(a, a).max(dot(b, b))).then(|| dot(a, b) / s)
+        (s > DEGENERATE_SINE * (dot(a, a) * dot(b, b)).sqrt()).then(|| dot(a, b) / s)
     };
     Some([cot(0)?, cot(1)?, cot(2)?])
 }
@@ -205,8 +218,11 @@ pub fn relax_phases(
     unknowns: &mut [[f64; 4]],
     omega: f64,
 ) -> Result<usize> {
-    let mut block = vec![NONE; mesh.vertex_count()];
     let vertex_of: Vec<u32> = (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_referenced(v)).collect();
+    if vertex_of.is_empty() {
+        return Ok(0);
+    }
+    let mut block = vec![NONE; mesh.vertex_count()];
     for (b, &v) in vertex_of.iter().enumerate() {
         block[v as usize] = b as u32;
     }
@@ -266,5 +282,16 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn cotangents_are_those_of_the_angles_and_slivers_below_the_threshold_are_left_out() {
+        let right = cotangents(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]).unwrap();
+        assert!(right[0].abs() < 1e-15 && (right[1] - 1.0).abs() < 1e-15 && (right[2] - 1.0).abs() < 1e-15);
+        // A needle with a 0.2° angle (cheese's smallest) stays; one of 10⁻⁷ rad does not.
+        let needle = |h: f64| [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, h, 0.0]];
+        let kept = cotangents(&needle(0.2f64.to_radians().tan())).unwrap();
+        assert!((kept[0] - 1.0 / 0.2f64.to_radians().tan()).abs() < 1e-9, "{kept:?}");
+        assert_eq!(cotangents(&needle(1e-7)), None);
     }
 }
