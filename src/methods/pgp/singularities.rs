@@ -102,15 +102,18 @@ pub fn signed_area2(q: &[[f64; 2]; 3]) -> f64 {
     (q[1][0] - q[0][0]) * (q[2][1] - q[0][1]) - (q[2][0] - q[0][0]) * (q[1][1] - q[0][1])
 }
 
-/// Number of singular triangles (open, or of non-positive (θ, φ) area).
+/// Whether triangle t is singular (§3.2: open, or of non-positive (θ, φ) area).
+fn is_singular_triangle(param: &CornerParameterization, t: usize) -> bool {
+    param.open[t] || signed_area2(&param.coords[t]) <= 0.0
+}
+
+/// Number of singular triangles ([`is_singular_triangle`]).
 pub fn singular_triangle_count(param: &CornerParameterization) -> usize {
-    (0..param.coords.len()).filter(|&t| param.open[t] || signed_area2(&param.coords[t]) <= 0.0).count()
+    (0..param.coords.len()).filter(|&t| is_singular_triangle(param, t)).count()
 }
 
 fn singular_triangles(param: &CornerParameterization) -> Vec<u32> {
-    (0..param.coords.len() as u32)
-        .filter(|&t| param.open[t as usize] || signed_area2(&param.coords[t as usize]) <= 0.0)
-        .collect()
+    (0..param.coords.len() as u32).filter(|&t| is_singular_triangle(param, t as usize)).collect()
 }
 
 /// `P^r (s, t)` with P(s, t) = (t, −s).
