@@ -2,6 +2,8 @@
 # Builds the Blender extension zip: blender_addon/ + the Python binding (bindings/python/uvflat,
 # vendored as blender_addon's subpackage `vendor/uvflat`) + the release libuvflat.so inside it.
 # Output: target/blender/uvflat-<version>-linux-x64.zip (or the path given as $1).
+# UVFLAT_CARGO_PROFILE chooses the cargo profile of the library (default release; the test suite
+# passes its own, `ci`, to reuse the library it already built).
 # Install it in Blender: Edit > Preferences > Get Extensions > (menu) Install from Disk..., or
 #   blender --command extension install-file -r user_default target/blender/uvflat-*.zip
 set -euo pipefail
@@ -12,8 +14,11 @@ target=${CARGO_TARGET_DIR:-target}
 version=$(sed -n 's/^version = "\(.*\)"/\1/p' blender_addon/blender_manifest.toml | head -1)
 out=${1:-$target/blender/uvflat-$version-linux-x64.zip}
 
-cargo build --release --locked --lib
-library="$target/release/libuvflat.so"
+profile=${UVFLAT_CARGO_PROFILE:-release}
+profile_dir=$profile
+[ "$profile" = dev ] && profile_dir=debug
+cargo build --profile "$profile" --locked --lib
+library="$target/$profile_dir/libuvflat.so"
 [ -f "$library" ] || { echo "error: $library was not built" >&2; exit 1; }
 
 stage="$target/blender/stage"

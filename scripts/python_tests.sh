@@ -2,7 +2,9 @@
 # Tests of the Python binding (bindings/python, tests/python): creates (or reuses) a venv in
 # target/python-venv, installs numpy, pytest, bpy 4.5 and the binding into it, builds the library with
 # cargo, and runs pytest with UVFLAT_LIBRARY pointing at the freshly built libuvflat.so.
-# Extra arguments go to pytest. Set PYTHON to choose the interpreter (default python3).
+# Extra arguments go to pytest. Set PYTHON to choose the interpreter (default python3) and
+# UVFLAT_CARGO_PROFILE the cargo profile of the library under test (default release; the test
+# command uses `ci`).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -45,9 +47,12 @@ fi
 # The binding is reinstalled every run so the tests see the working tree's version.
 "$py" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps --force-reinstall ./bindings/python
 
-cargo build --release --locked
-export UVFLAT_LIBRARY="$PWD/$target/release/libuvflat.so"
-[[ "$target" = /* ]] && UVFLAT_LIBRARY="$target/release/libuvflat.so"
+profile=${UVFLAT_CARGO_PROFILE:-release}
+profile_dir=$profile
+[ "$profile" = dev ] && profile_dir=debug
+cargo build --profile "$profile" --locked
+export UVFLAT_LIBRARY="$PWD/$target/$profile_dir/libuvflat.so"
+[[ "$target" = /* ]] && UVFLAT_LIBRARY="$target/$profile_dir/libuvflat.so"
 export UVFLAT_CLI="${UVFLAT_LIBRARY%/*}/uvflat"
 
 # bindings/python is not on sys.path here, so the tests import the installed package.
