@@ -263,6 +263,17 @@
 #define MAX_VERTICES (1 << 31)
 
 /**
+ * Smallest gap π − θ_e the angle program allows (radians): at θ = π the two circles
+ * coincide and the kite's weight sin θ / (2 (cosh x + cos θ)) runs to 0 or ∞.
+ */
+#define DELAUNAY_MARGIN 0.01
+
+/**
+ * Smallest planar angle the angle program allows (radians).
+ */
+#define MIN_ANGLE 1e-4
+
+/**
  * Fraction of the maximal flip-free step tried first (Smith & Schaefer 2015).
  */
 #define MAX_STEP_FRACTION 0.8
@@ -621,6 +632,74 @@ typedef struct UvfAtlasInfo {
    */
   double max_chart_stretch;
 } UvfAtlasInfo;
+
+/**
+ * Options of `uvf_circle_pattern_map`. Initialise with `uvf_circle_pattern_options_default`.
+ */
+typedef struct UvfCirclePatternOptions {
+  /**
+   * `sizeof(UvfCirclePatternOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * Newton steps allowed for the radii, and for each barrier stage of the angles (default
+   * 100; ≥ 1).
+   */
+  uint32_t max_iterations;
+  /**
+   * Stop the radii when every circle closes to within this angle in radians (default 1e-11;
+   * > 0).
+   */
+  double tolerance;
+  /**
+   * 0: pin the two boundary vertices farthest apart at (0, 0) and (d, 0), d their 3D
+   * distance (default); 2: use `pin_vertices`.
+   */
+  uint32_t pin_count;
+  /**
+   * The two pinned vertices when `pin_count` is 2.
+   */
+  uint32_t pin_vertices[2];
+  /**
+   * Their UVs: u0, v0, u1, v1.
+   */
+  double pin_uv[4];
+  /**
+   * Optional progress callback (may be NULL), called once per barrier stage and per Newton
+   * step of the radii.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfCirclePatternOptions;
+
+/**
+ * What `uvf_circle_pattern_map` reports.
+ */
+typedef struct UvfCirclePatternReport {
+  /**
+   * Newton steps of the angle program (all barrier stages).
+   */
+  uint32_t angle_iterations;
+  /**
+   * Newton steps of the radii.
+   */
+  uint32_t radius_iterations;
+  /**
+   * Largest |Σ φ − π| over the circles at the end (radians).
+   */
+  double closure_error;
+  /**
+   * Interior edges whose 3D angles violate the Delaunay condition (the program moves them).
+   */
+  uint32_t non_delaunay_edges;
+  /**
+   * Largest |α − β| between a planar and a 3D angle (radians).
+   */
+  double max_angle_change;
+} UvfCirclePatternReport;
 
 /**
  * Options of `uvf_cut_to_disk`. Initialise with `uvf_cut_options_default`.
@@ -1587,6 +1666,41 @@ enum UvfStatus uvf_atlas_copy_original_vertices(const struct UvfAtlas *atlas,
  * `atlas` must come from `uvf_atlas` and not have been freed.
  */
 void uvf_atlas_free(struct UvfAtlas *atlas);
+
+/**
+ * Fills `options` with defaults (100 iterations, tolerance 1e-11, automatic pins, no callback).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_circle_pattern_options_default(struct UvfCirclePatternOptions *options);
+
+/**
+ * Conformal map by circle patterns (Kharevych, Springborn & Schröder 2006; course notes §4.4),
+ * free boundary: planar angles from the paper's quadratic program (closest to the 3D angles
+ * under the triangle and interior-vertex sums, positivity and the local Delaunay condition,
+ * solved by a log barrier), the intersection angles of the triangles' circumcircles from them,
+ * the log radii as the minimizer of the paper's convex energy (Newton), and the layout of the
+ * pattern's triangles. Every planar angle is in (0, π) and the angles close around every
+ * interior vertex, so no triangle is flipped. Not implemented: the paper's intrinsic Delaunay
+ * flips before the program, cone singularities and prescribed boundary curvature.
+ *
+ * Needs a connected genus-0 mesh with at least one boundary. `uv_out` receives 2 doubles per
+ * vertex (NaN for unreferenced ones); `options` and `report_out` may be NULL. Returns `UVF_OK`,
+ * `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`,
+ * `UVF_NUMERICAL_FAILURE` (the barrier or the radii did not converge within the iteration
+ * limit), `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_circle_pattern_map(const double *positions,
+                                      size_t vertex_count,
+                                      const uint32_t *triangles,
+                                      size_t triangle_count,
+                                      const struct UvfCirclePatternOptions *options,
+                                      double *uv_out,
+                                      struct UvfCirclePatternReport *report_out);
 
 /**
  * Fills `options` with defaults (curvature-weighted edge length).

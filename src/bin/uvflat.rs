@@ -15,6 +15,7 @@ use uvflat::io::svg::write_uv_svg;
 use uvflat::mesh::cut::{cut_to_disk, total_edge_length, EdgeCost};
 use uvflat::methods::abf::{abf, AbfOptions, AbfVariant};
 use uvflat::methods::boundary_optimization::{boundary_optimized_map, BoundaryOptimizationOptions};
+use uvflat::methods::circle_patterns::{circle_pattern_map, CirclePatternOptions};
 use uvflat::methods::conformal::Pin;
 use uvflat::methods::length_area_distortion::DistortionEnergy;
 use uvflat::methods::near_optimal::{near_optimal_map, NearOptimalOptions};
@@ -283,6 +284,7 @@ enum MethodName {
     #[value(name = "abf++")]
     AbfPlusPlus,
     SpectralConformal,
+    CirclePatterns,
     IntrinsicOptimal,
     BoundaryOptimized,
 }
@@ -311,7 +313,7 @@ impl MethodName {
 }
 
 /// Each method's CLI name and one-line description, as `uvflat methods` prints them.
-const METHODS: [(MethodName, &str, &str); 18] = [
+const METHODS: [(MethodName, &str, &str); 19] = [
     (MethodName::Tutte, "tutte", "fixed boundary, uniform weights (Tutte 1963); never flips with a convex boundary"),
     (MethodName::Floater, "floater", "fixed boundary, Floater's shape-preserving weights (1997); never flips"),
     (MethodName::Authalic, "authalic", "fixed boundary, discrete authalic = Wachspress (Desbrun et al. 2002 eq. 6)"),
@@ -339,6 +341,11 @@ const METHODS: [(MethodName, &str, &str); 18] = [
         MethodName::SpectralConformal,
         "spectral-conformal",
         "free boundary, conformal without pins: smallest generalized eigenvector (Mullen et al. 2008)",
+    ),
+    (
+        MethodName::CirclePatterns,
+        "circle-patterns",
+        "free boundary, conformal by circle patterns (Kharevych et al. 2006; no intrinsic Delaunay flips); never flips",
     ),
     (
         MethodName::IntrinsicOptimal,
@@ -942,7 +949,11 @@ fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
     let method = args.method();
     let free = matches!(
         method,
-        MethodName::NaturalConformal | MethodName::Abf | MethodName::AbfPlusPlus | MethodName::SpectralConformal
+        MethodName::NaturalConformal
+            | MethodName::Abf
+            | MethodName::AbfPlusPlus
+            | MethodName::SpectralConformal
+            | MethodName::CirclePatterns
     );
     let nonlinear = method.nonlinear().is_some();
     let optimizing = matches!(method, MethodName::IntrinsicOptimal | MethodName::BoundaryOptimized);
@@ -1045,6 +1056,22 @@ fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<(Vec<[f64; 2]>, serde
                 );
             }
             let extra = serde_json::json!({"eigenvalue": r.eigenvalue, "residual": r.residual, "iterations": r.iterations, "converged": r.converged});
+            return Ok((r.uv, extra));
+        }
+        MethodName::CirclePatterns => {
+            let r = circle_pattern_map(mesh, &CirclePatternOptions::default(), &mut Progress::none())?;
+            let p = r.report;
+            if !args.json {
+                println!(
+                    "circle-patterns: {} angle and {} radius Newton steps, circles closed to {:.1e}, {} non-Delaunay edges, largest angle change {:.2} deg",
+                    p.angle_iterations,
+                    p.radius_iterations,
+                    p.closure_error,
+                    p.non_delaunay_edges,
+                    p.max_angle_change.to_degrees()
+                );
+            }
+            let extra = serde_json::json!({"angle_iterations": p.angle_iterations, "radius_iterations": p.radius_iterations, "closure_error": p.closure_error, "non_delaunay_edges": p.non_delaunay_edges, "max_angle_change": p.max_angle_change});
             return Ok((r.uv, extra));
         }
         MethodName::IntrinsicOptimal => {

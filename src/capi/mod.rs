@@ -8,6 +8,7 @@
 
 pub mod abf;
 pub mod atlas;
+pub mod circle_patterns;
 pub mod closed;
 pub mod errors;
 pub mod intrinsic;

@@ -351,6 +351,33 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
               calls == 1 && uv[0] == 42.0,
           "spectral map cancelled by its callback");
 
+    {
+        UvfCirclePatternOptions circles;
+        UvfCirclePatternReport circles_report;
+        uvf_circle_pattern_options_default(&circles);
+        check(circles.struct_size == sizeof circles && circles.max_iterations > 0 && circles.pin_count == 0,
+              "circle pattern defaults");
+        check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, &circles_report) == UVF_OK &&
+                  circles_report.closure_error < 1e-9,
+              "circle pattern map succeeds with every circle closed");
+        check(uvf_metrics(positions, nv, triangles, nt, uv, nv, NULL, &metrics) == UVF_OK && metrics.flipped == 0 &&
+                  metrics.degenerate_uv == 0,
+              "circle pattern map has no flipped or degenerate triangle");
+        circles.pin_count = 1;
+        uv[0] = 42.0;
+        check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, NULL) == UVF_INVALID_ARGUMENT &&
+                  uv[0] == 42.0,
+              "one pin refused, output untouched");
+        uvf_circle_pattern_options_default(&circles);
+        calls = 0;
+        circles.progress = cancel_first;
+        circles.progress_user = &calls;
+        check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, NULL) == UVF_CANCELLED &&
+                  calls == 1 && uv[0] == 42.0,
+              "circle pattern map cancelled by its callback");
+        calls = 0;
+    }
+
     uvf_intrinsic_optimal_options_default(&optimal);
     check(optimal.energy == UVF_ENERGY_EDGE_LENGTH && isinf(optimal.lambda_min) && optimal.lambda_min < 0,
           "near-optimal defaults: edge energy, unbounded lambda");

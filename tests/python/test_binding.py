@@ -1251,6 +1251,26 @@ def test_spectral_conformal_map_needs_no_pins_and_ignores_rigid_motion():
         uvflat.spectral_conformal_map(p, t, progress=lambda fraction: False)
 
 
+def test_circle_pattern_map_never_flips_ignores_rigid_motion_and_cancels():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    uv, report = uvflat.circle_pattern_map(p, t)
+    assert report.closure_error < 1e-9 and report.radius_iterations >= 1
+    m = uvflat.metrics(p, t, uv)
+    assert m.flipped == 0 and m.degenerate_uv == 0
+    c, s = np.cos(0.7), np.sin(0.7)
+    rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    # Intrinsic, pinned at (0, 0) and (d, 0) (d the pins' 3D distance): the same map up to
+    # the input's scale, whatever the rigid motion.
+    moved, _ = uvflat.circle_pattern_map(p @ rotation.T * 3.0 + [1.0, -2.0, 5.0], t)
+    assert np.allclose(moved, 3.0 * uv, atol=1e-6 * np.abs(uv).max() * 3.0)
+    with pytest.raises(uvflat.UnsupportedTopology):
+        uvflat.circle_pattern_map(*load_mesh("closed_g0_decimated_knight.obj"))
+    with pytest.raises(uvflat.Cancelled):
+        uvflat.circle_pattern_map(p, t, progress=lambda fraction: False)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.circle_pattern_map(p, t, max_iterations=0)
+
+
 def test_boundary_editor_matches_a_fresh_solve_and_its_basis():
     p, t = load_mesh("disk_nefertiti_small.obj")
     with uvflat.BoundaryEditor(p, t, lambda_=1.0, mu=0.0) as editor:

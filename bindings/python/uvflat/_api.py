@@ -716,6 +716,63 @@ def spectral_conformal_map(
 
 
 @dataclasses.dataclass(frozen=True)
+class CirclePatternReport:
+    """What ``uvf_circle_pattern_map`` reports."""
+
+    #: Newton steps of the angle program (all barrier stages).
+    angle_iterations: int
+    #: Newton steps of the log radii.
+    radius_iterations: int
+    #: Largest |Σ φ − π| over the circles (radians).
+    closure_error: float
+    #: Interior edges whose 3D angles violate the Delaunay condition.
+    non_delaunay_edges: int
+    #: Largest |α − β| between a planar and a 3D angle (radians).
+    max_angle_change: float
+
+
+def circle_pattern_map(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    *,
+    pins: Optional[Pins] = None,
+    max_iterations: Optional[int] = None,
+    tolerance: Optional[float] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> Tuple[np.ndarray, CirclePatternReport]:
+    """Conformal map by circle patterns (Kharevych, Springborn & Schröder 2006;
+    ``uvf_circle_pattern_map``), free boundary: planar angles from the paper's quadratic
+    program, the circumcircles' intersection angles, the log radii minimizing the paper's
+    convex energy, and their layout. No triangle is flipped. Without the paper's intrinsic
+    Delaunay flips; may raise :class:`NumericalFailure` where the barrier does not converge.
+
+    Args:
+        pins: ``None`` (default: the two boundary vertices farthest apart at (0, 0) and (d, 0),
+            d their 3D distance)
+            or ``((v0, (u0, v0_)), (v1, (u1, v1_)))`` as for :func:`natural_conformal_map`.
+
+    Returns:
+        ``(uv, report)``: ``(n, 2)`` UVs and a :class:`CirclePatternReport`.
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    options = L.UvfCirclePatternOptions()
+    L.library().uvf_circle_pattern_options_default(byref(options))
+    if pins is not None:
+        _set_two_pins(options, pins)
+    if max_iterations is not None:
+        options.max_iterations = int(max_iterations)
+    if tolerance is not None:
+        options.tolerance = float(tolerance)
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    uv = np.empty((len(p), 2), dtype=np.float64)
+    report = L.UvfCirclePatternReport()
+    lib = L.library()
+    bridge.run(lambda: lib.uvf_circle_pattern_map(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(uv), byref(report)))
+    return uv, _from_struct(CirclePatternReport, report)
+
+
+@dataclasses.dataclass(frozen=True)
 class IntrinsicOptimalReport:
     """What ``uvf_intrinsic_optimal_map`` reports."""
 

@@ -255,6 +255,33 @@ class UvfSpectralReport(Structure):
     ]
 
 
+class UvfCirclePatternOptions(Structure):
+    """``struct UvfCirclePatternOptions``; fill with ``uvf_circle_pattern_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("max_iterations", c_uint32),
+        ("tolerance", c_double),
+        ("pin_count", c_uint32),
+        ("pin_vertices", c_uint32 * 2),
+        ("pin_uv", c_double * 4),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
+    ]
+
+
+class UvfCirclePatternReport(Structure):
+    """``struct UvfCirclePatternReport``: Newton steps and closure of a circle-pattern map."""
+
+    _fields_ = [
+        ("angle_iterations", c_uint32),
+        ("radius_iterations", c_uint32),
+        ("closure_error", c_double),
+        ("non_delaunay_edges", c_uint32),
+        ("max_angle_change", c_double),
+    ]
+
+
 class UvfIntrinsicOptimalOptions(Structure):
     """``struct UvfIntrinsicOptimalOptions``; fill with ``uvf_intrinsic_optimal_options_default``."""
 
@@ -585,6 +612,11 @@ PROTOTYPES = {
     "uvf_spectral_conformal_map": (
         UvfStatus,
         [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfSpectralOptions), _f64p, POINTER(UvfSpectralReport)],
+    ),
+    "uvf_circle_pattern_options_default": (None, [POINTER(UvfCirclePatternOptions)]),
+    "uvf_circle_pattern_map": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfCirclePatternOptions), _f64p, POINTER(UvfCirclePatternReport)],
     ),
     "uvf_intrinsic_optimal_options_default": (None, [POINTER(UvfIntrinsicOptimalOptions)]),
     "uvf_intrinsic_optimal_map": (

@@ -1,0 +1,141 @@
+//! C ABI of the circle-pattern conformal map (`methods::circle_patterns`).
+
+use super::{
+    borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv, UvfProgressFn,
+};
+use crate::error::{Error, UvfStatus};
+use crate::methods::circle_patterns::{circle_pattern_map, CirclePatternOptions};
+use crate::methods::conformal::Pin;
+use crate::progress::Progress;
+use std::os::raw::c_void;
+
+/// Options of `uvf_circle_pattern_map`. Initialise with `uvf_circle_pattern_options_default`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct UvfCirclePatternOptions {
+    /// `sizeof(UvfCirclePatternOptions)`, set by the default initialiser.
+    pub struct_size: usize,
+    /// Newton steps allowed for the radii, and for each barrier stage of the angles (default
+    /// 100; ≥ 1).
+    pub max_iterations: u32,
+    /// Stop the radii when every circle closes to within this angle in radians (default 1e-11;
+    /// > 0).
+    pub tolerance: f64,
+    /// 0: pin the two boundary vertices farthest apart at (0, 0) and (d, 0), d their 3D
+    /// distance (default); 2: use `pin_vertices`.
+    pub pin_count: u32,
+    /// The two pinned vertices when `pin_count` is 2.
+    pub pin_vertices: [u32; 2],
+    /// Their UVs: u0, v0, u1, v1.
+    pub pin_uv: [f64; 4],
+    /// Optional progress callback (may be NULL), called once per barrier stage and per Newton
+    /// step of the radii.
+    pub progress: UvfProgressFn,
+    /// Passed to `progress` unchanged.
+    pub progress_user: *mut c_void,
+}
+
+impl Default for UvfCirclePatternOptions {
+    fn default() -> Self {
+        let d = CirclePatternOptions::default();
+        UvfCirclePatternOptions {
+            struct_size: std::mem::size_of::<Self>(),
+            max_iterations: d.max_iterations,
+            tolerance: d.tolerance,
+            pin_count: 0,
+            pin_vertices: [0, 0],
+            pin_uv: [0.0, 0.0, 1.0, 0.0],
+            progress: None,
+            progress_user: std::ptr::null_mut(),
+        }
+    }
+}
+
+/// What `uvf_circle_pattern_map` reports.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UvfCirclePatternReport {
+    /// Newton steps of the angle program (all barrier stages).
+    pub angle_iterations: u32,
+    /// Newton steps of the radii.
+    pub radius_iterations: u32,
+    /// Largest |Σ φ − π| over the circles at the end (radians).
+    pub closure_error: f64,
+    /// Interior edges whose 3D angles violate the Delaunay condition (the program moves them).
+    pub non_delaunay_edges: u32,
+    /// Largest |α − β| between a planar and a 3D angle (radians).
+    pub max_angle_change: f64,
+}
+
+/// Fills `options` with defaults (100 iterations, tolerance 1e-11, automatic pins, no callback).
+///
+/// # Safety
+/// `options` must be NULL or point to a writable struct.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_circle_pattern_options_default(options: *mut UvfCirclePatternOptions) {
+    if !options.is_null() {
+        options.write(UvfCirclePatternOptions::default());
+    }
+}
+
+/// Conformal map by circle patterns (Kharevych, Springborn & Schröder 2006; course notes §4.4),
+/// free boundary: planar angles from the paper's quadratic program (closest to the 3D angles
+/// under the triangle and interior-vertex sums, positivity and the local Delaunay condition,
+/// solved by a log barrier), the intersection angles of the triangles' circumcircles from them,
+/// the log radii as the minimizer of the paper's convex energy (Newton), and the layout of the
+/// pattern's triangles. Every planar angle is in (0, π) and the angles close around every
+/// interior vertex, so no triangle is flipped. Not implemented: the paper's intrinsic Delaunay
+/// flips before the program, cone singularities and prescribed boundary curvature.
+///
+/// Needs a connected genus-0 mesh with at least one boundary. `uv_out` receives 2 doubles per
+/// vertex (NaN for unreferenced ones); `options` and `report_out` may be NULL. Returns `UVF_OK`,
+/// `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`,
+/// `UVF_NUMERICAL_FAILURE` (the barrier or the radii did not converge within the iteration
+/// limit), `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
+///
+/// # Safety
+/// The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_circle_pattern_map(
+    positions: *const f64,
+    vertex_count: usize,
+    triangles: *const u32,
+    triangle_count: usize,
+    options: *const UvfCirclePatternOptions,
+    uv_out: *mut f64,
+    report_out: *mut UvfCirclePatternReport,
+) -> UvfStatus {
+    guard(|| {
+        let full = std::mem::size_of::<UvfCirclePatternOptions>();
+        let o = read_options(options, UvfCirclePatternOptions::default(), full, "UvfCirclePatternOptions")?;
+        let pins: Option<[Pin; 2]> = match o.pin_count {
+            0 => None,
+            2 => {
+                Some([(o.pin_vertices[0], [o.pin_uv[0], o.pin_uv[1]]), (o.pin_vertices[1], [o.pin_uv[2], o.pin_uv[3]])])
+            }
+            n => return Err(Error::InvalidArgument(format!("pin_count must be 0 or 2, not {n}"))),
+        };
+        if o.max_iterations == 0 {
+            return Err(Error::InvalidArgument("max_iterations must be at least 1".into()));
+        }
+        let opts = CirclePatternOptions { pins, max_iterations: o.max_iterations, tolerance: o.tolerance };
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        // Checked before the work so that a bad output pointer leaves everything untouched.
+        borrow_slice_mut(uv_out, checked_count(vertex_count, 2, "uv")?, "uv_out")?;
+        let mut callback = progress_closure(o.progress, o.progress_user);
+        let result = circle_pattern_map(&mesh, &opts, &mut Progress::new(&mut callback))?;
+        write_uv(&result.uv, uv_out)?;
+        if !report_out.is_null() {
+            let r = result.report;
+            // SAFETY: non-null, and the caller promises a writable UvfCirclePatternReport.
+            report_out.write(UvfCirclePatternReport {
+                angle_iterations: r.angle_iterations,
+                radius_iterations: r.radius_iterations,
+                closure_error: r.closure_error,
+                non_delaunay_edges: r.non_delaunay_edges,
+                max_angle_change: r.max_angle_change,
+            });
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,695 @@
+//! Conformal parameterization by circle patterns (Kharevych, Springborn & Schröder 2006,
+//! "Discrete conformal mappings via circle patterns", ACM TOG 25(2); course notes 2008 §4.4,
+//! Figure 4.3), free boundary, for disks (holes allowed).
+//!
+//! One circle per triangle, the circumcircle; two circles meet at the two ends of their common
+//! edge. For the triangle angles α (α_a at corner a, opposite the edge e(a)) the *intersection
+//! angle* of edge e is θ_e = α_a + α_b (the two corners opposite e) for an interior edge and
+//! θ_e = α_a on the boundary: in the kite (centre f, vertex i, centre g, vertex j) of an
+//! interior edge the angles at the centres are φ_f + φ_g = θ_e and the angle at each vertex
+//! is π − θ_e. Given θ, the pattern is determined by the log radii ρ_f (paper §3): the law of
+//! sines in the kite, r_g / r_f = sin φ_f / sin φ_g, gives
+//!
+//! ```text
+//! φ_f(x) = atan2(eˣ sin θ, 1 + eˣ cos θ),   x = ρ_g − ρ_f,   dφ_f/dx = sin θ / (2 (cosh x + cos θ)),
+//! ```
+//!
+//! and the circle of f closes when Σ_{e ∈ f} φ_{e,f} = π (boundary edges: φ = θ_e). These are
+//! the critical-point equations of the paper's convex energy E(ρ) (eq. 5, the sum of
+//! Im Li₂ terms; its Hessian is the weighted dual Laplacian with weights dφ/dx > 0), so the
+//! radii are its unique minimizer up to a common scale. The pattern's triangle angles are then
+//! the φ (the inscribed angle opposite e is half the central angle 2 φ_{e,f}), they sum to 2π
+//! around every interior vertex whenever the α do (Σ_e (π − θ_e) = Σ α at the vertex), and the
+//! edge lengths 2 r_f sin φ_{e,f} agree from both sides: a planar triangulation with every
+//! angle in (0, π) — a local immersion, no flipped triangle.
+//!
+//! The angles α come from the paper's quadratic program (§4, course notes §4.4): minimize
+//! Σ (α_a − β_a)² / β_a² (β = the 3D angles) subject to the triangle sums π, the interior
+//! vertex sums 2π, α > 0 and the local Delaunay condition α_a + α_b < π on every interior edge
+//! (θ_e < π). The paper hands it to a QP solver; here a log-barrier interior-point method
+//! solves it: Newton steps on t·f(α) − Σ ln α_a − Σ_e ln(π − α_a − α_b) under the linear
+//! equalities, t × 100 from 1 to 10⁸. Each corner is opposite one edge, so the Hessian is
+//! diagonal with 2×2 blocks (the two corners of an interior edge), and each step solves the
+//! Schur complement J H⁻¹ Jᵀ over triangles and interior vertices by sparse Cholesky.
+//! The paper also flips edges to an intrinsic Delaunay triangulation first, so that θ is
+//! conformally invariant; this implementation does not (the Delaunay condition is enforced on
+//! the mesh as given, which moves the angles of non-Delaunay edges away from their 3D values).
+//!
+//! The planar layout is the least-squares reconstruction from angles of ABF++
+//! ([`super::abf::reconstruct_uv`]), exact here because the angles are those of a planar
+//! triangulation. Cost: ~25 sparse Cholesky factorizations for the angles (order F + V), a
+//! few Newton steps on the F radii, one factorization for the layout.
+
+use super::abf::reconstruct_uv;
+use super::conformal::{resolve_pins, Pin};
+use crate::error::{Error, Result};
+use crate::linalg::{lower_from_entries, CholeskyPattern};
+use crate::mesh::connectivity::prev;
+use crate::mesh::{TriMesh, NONE};
+use crate::progress::Progress;
+use faer::Mat;
+use std::f64::consts::PI;
+
+/// Smallest gap π − θ_e the angle program allows (radians): at θ = π the two circles
+/// coincide and the kite's weight sin θ / (2 (cosh x + cos θ)) runs to 0 or ∞.
+pub const DELAUNAY_MARGIN: f64 = 0.01;
+/// Smallest planar angle the angle program allows (radians).
+pub const MIN_ANGLE: f64 = 1e-4;
+
+/// Options of [`circle_pattern_map`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct CirclePatternOptions {
+    /// Two boundary vertices and their uv; `None` pins the farthest boundary pair at (0, 0)
+    /// and (d, 0), d their 3D distance (the map is only determined up to a similarity).
+    pub pins: Option<[Pin; 2]>,
+    /// Newton iterations allowed for the radii (each also for every centering of the angles).
+    pub max_iterations: u32,
+    /// Stop the radii when every circle closes to within this angle (radians), or below 10⁻⁸
+    /// when a Newton step no longer halves the largest gap (rounding).
+    pub tolerance: f64,
+}
+
+impl Default for CirclePatternOptions {
+    fn default() -> Self {
+        CirclePatternOptions { pins: None, max_iterations: 100, tolerance: 1e-11 }
+    }
+}
+
+/// What [`circle_pattern_map`] reports.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CirclePatternReport {
+    /// Newton steps of the angle program (all barrier stages).
+    pub angle_iterations: u32,
+    /// Newton steps of the radii.
+    pub radius_iterations: u32,
+    /// Largest |Σ φ − π| over the circles at the end.
+    pub closure_error: f64,
+    /// Interior edges whose 3D angles violate the Delaunay condition (β_a + β_b ≥ π).
+    pub non_delaunay_edges: u32,
+    /// Largest |α − β| of the planar angles (radians).
+    pub max_angle_change: f64,
+}
+
+/// Circle-pattern parameterization: one uv per vertex (NaN for unreferenced vertices).
+#[derive(Debug, Clone)]
+pub struct CirclePatternResult {
+    pub uv: Vec<[f64; 2]>,
+    pub report: CirclePatternReport,
+}
+
+/// The circle-pattern conformal map of a disk (possibly with holes), free boundary.
+pub fn circle_pattern_map(
+    mesh: &TriMesh,
+    options: &CirclePatternOptions,
+    progress: &mut Progress,
+) -> Result<CirclePatternResult> {
+    let pins = resolve_pins(mesh, options.pins)?;
+    if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
+        return Err(Error::InvalidArgument(format!(
+            "circle pattern tolerance must be finite and > 0 (got {})",
+            options.tolerance
+        )));
+    }
+    let beta: Vec<f64> = mesh.corner_angles().iter().flatten().copied().collect();
+    let program = AngleProgram::new(mesh, &beta);
+    let (alpha, angle_iterations) = program.solve(options.max_iterations, progress)?;
+    progress.report(0.6)?;
+    let theta = intersection_angles(mesh, &alpha);
+    let mut rho = circumradius_logs(mesh);
+    let radius_iterations = solve_radii(mesh, &theta, &mut rho, options, progress)?;
+    let phi = kite_angles(mesh, &theta, &rho);
+    let closure_error = phi.iter().map(|p| (p.iter().sum::<f64>() - PI).abs()).fold(0.0, f64::max);
+    let angles: Vec<[f64; 3]> = phi.iter().map(|p| [p[1], p[2], p[0]]).collect();
+    let uv = reconstruct_uv(mesh, &angles, pins)?;
+    progress.report(1.0)?;
+    let report = CirclePatternReport {
+        angle_iterations,
+        radius_iterations,
+        closure_error,
+        non_delaunay_edges: program.non_delaunay_edges(&beta),
+        max_angle_change: alpha.iter().zip(&beta).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max),
+    };
+    Ok(CirclePatternResult { uv, report })
+}
+
+/// θ per half-edge (both half-edges of an interior edge get the same value): the sum of the
+/// angles opposite the edge, or the one angle on the boundary. The corner opposite half-edge h
+/// is `prev(h)` (half-edge h = 3t + k runs from corner k to corner k + 1).
+fn intersection_angles(mesh: &TriMesh, alpha: &[f64]) -> Vec<f64> {
+    let twin = &mesh.connectivity().twin;
+    (0..twin.len() as u32)
+        .map(|h| {
+            let own = alpha[prev(h) as usize];
+            match twin[h as usize] {
+                NONE => own,
+                t => own + alpha[prev(t) as usize],
+            }
+        })
+        .collect()
+}
+
+/// ln of the 3D circumradius of every triangle: the starting radii (exact for a flat
+/// Delaunay mesh).
+fn circumradius_logs(mesh: &TriMesh) -> Vec<f64> {
+    let p = mesh.points();
+    mesh.triangles()
+        .iter()
+        .zip(mesh.corner_angles())
+        .map(|(t, a)| {
+            let e = crate::geometry::distance(p[t[1] as usize], p[t[2] as usize]);
+            (e / (2.0 * a[0].sin())).ln()
+        })
+        .collect()
+}
+
+/// φ_f(x) = atan2(eˣ sin θ, 1 + eˣ cos θ) without overflow, and dφ_f/dx.
+fn kite_angle(theta: f64, x: f64) -> (f64, f64) {
+    let (s, c) = theta.sin_cos();
+    let phi = if x > 0.0 { s.atan2((-x).exp() + c) } else { (x.exp() * s).atan2(1.0 + x.exp() * c) };
+    let slope = if x.abs() > 700.0 { 0.0 } else { s / (2.0 * (x.cosh() + c)) };
+    (phi, slope)
+}
+
+/// The angle φ at the centre of triangle t in the kite of each of its half-edges, `[t][k]`
+/// for half-edge 3t + k.
+fn kite_angles(mesh: &TriMesh, theta: &[f64], rho: &[f64]) -> Vec<[f64; 3]> {
+    let twin = &mesh.connectivity().twin;
+    (0..rho.len())
+        .map(|t| {
+            std::array::from_fn(|k| {
+                let h = 3 * t + k;
+                match twin[h] {
+                    NONE => theta[h],
+                    o => kite_angle(theta[h], rho[o as usize / 3] - rho[t]).0,
+                }
+            })
+        })
+        .collect()
+}
+
+/// Gradient of the circle-pattern energy (halved): π − Σ φ per circle (Σ φ falls as the
+/// circle grows).
+fn closure_residual(mesh: &TriMesh, theta: &[f64], rho: &[f64]) -> Vec<f64> {
+    kite_angles(mesh, theta, rho).iter().map(|p| PI - p.iter().sum::<f64>()).collect()
+}
+
+/// Newton on the convex energy of the log radii (circle 0 keeps its radius: the energy is
+/// invariant under a common scale), with an exact line search on the monotone directional
+/// derivative.
+fn solve_radii(
+    mesh: &TriMesh,
+    theta: &[f64],
+    rho: &mut [f64],
+    options: &CirclePatternOptions,
+    progress: &mut Progress,
+) -> Result<u32> {
+    let n = rho.len();
+    if n <= 1 {
+        return Ok(0);
+    }
+    let twin = &mesh.connectivity().twin;
+    let centroids = triangle_centroids(mesh);
+    let mut pattern: Option<CholeskyPattern> = None;
+    let mut previous = f64::INFINITY;
+    for iteration in 0..=options.max_iterations {
+        let residual = closure_residual(mesh, theta, rho);
+        let worst = residual.iter().map(|r| r.abs()).fold(0.0, f64::max);
+        if !worst.is_finite() {
+            return Err(Error::Numerical("circle pattern radii diverged".into()));
+        }
+        // Below 10⁻⁸ a Newton step that no longer halves the residual has met rounding.
+        if worst <= options.tolerance || (worst < 1e-8 && worst > 0.5 * previous) {
+            return Ok(iteration);
+        }
+        previous = worst;
+        if iteration == options.max_iterations {
+            break;
+        }
+        let (diag, entries) = radius_hessian(twin, theta, rho);
+        let lower = lower_from_entries(&diag[1..], entries)?;
+        if pattern.is_none() {
+            pattern = Some(CholeskyPattern::new(lower.symbolic(), Some(&centroids[1..]))?);
+        }
+        let solver = pattern
+            .as_ref()
+            .map(|p| p.factor(&lower))
+            .transpose()?
+            .ok_or_else(|| Error::Internal("circle pattern: no factorization pattern".into()))?;
+        let mut step = Mat::from_fn(n - 1, 1, |i, _| residual[i + 1]);
+        solver.solve_in_place(&mut step)?;
+        let mut direction = vec![0.0; n];
+        for i in 1..n {
+            direction[i] = -step[(i - 1, 0)];
+        }
+        let s = line_search(mesh, theta, rho, &direction);
+        for (r, d) in rho.iter_mut().zip(&direction) {
+            *r += s * d;
+        }
+        progress.report(0.6 + 0.3 * (iteration as f64 + 1.0) / (options.max_iterations as f64 + 1.0))?;
+    }
+    Err(Error::Numerical(format!(
+        "circle pattern radii did not converge in {} Newton iterations (the intersection angles may admit no pattern)",
+        options.max_iterations
+    )))
+}
+
+/// The Hessian of the energy over circles 1.. (circle 0 fixed): diagonal and strictly lower
+/// entries, weights dφ/dx on the dual edges.
+fn radius_hessian(twin: &[u32], theta: &[f64], rho: &[f64]) -> (Vec<f64>, Vec<(u32, u32, f64)>) {
+    let mut diag = vec![0.0; rho.len()];
+    let mut entries = Vec::new();
+    for (h, &o) in twin.iter().enumerate() {
+        if o == NONE {
+            continue;
+        }
+        let (f, g) = (h / 3, o as usize / 3);
+        let (_, w) = kite_angle(theta[h], rho[g] - rho[f]);
+        diag[f] += w;
+        if f > g && g > 0 {
+            entries.push(((f - 1) as u32, (g - 1) as u32, -w));
+        }
+    }
+    (diag, entries)
+}
+
+/// Step length along `direction`: 1 when the energy still decreases there, else the zero of
+/// the directional derivative in (0, 1) by bisection (it increases: the energy is convex).
+fn line_search(mesh: &TriMesh, theta: &[f64], rho: &[f64], direction: &[f64]) -> f64 {
+    // dE/ds = Σ residual · direction (the residual π − Σ φ is ∇E, halved).
+    let slope = |s: f64| -> f64 {
+        let moved: Vec<f64> = rho.iter().zip(direction).map(|(r, d)| r + s * d).collect();
+        closure_residual(mesh, theta, &moved).iter().zip(direction).map(|(r, d)| r * d).sum::<f64>()
+    };
+    if slope(1.0) <= 0.0 {
+        return 1.0;
+    }
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if slope(mid) <= 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo.max(1e-12)
+}
+
+fn triangle_centroids(mesh: &TriMesh) -> Vec<[f64; 3]> {
+    let p = mesh.points();
+    mesh.triangles()
+        .iter()
+        .map(|t| std::array::from_fn(|i| t.iter().map(|&v| p[v as usize][i]).sum::<f64>() / 3.0))
+        .collect()
+}
+
+/// The quadratic program for the planar angles (see the module comment), by a log barrier.
+struct AngleProgram {
+    /// 3D angles, one per corner (3t + k).
+    beta: Vec<f64>,
+    /// Objective weights 1 / β².
+    weight: Vec<f64>,
+    /// The two corners opposite each interior edge.
+    pairs: Vec<[u32; 2]>,
+    /// For each corner, its pair, or NONE when it is opposite a boundary edge.
+    pair_of: Vec<u32>,
+    /// Constraint row of each corner's interior vertex (after the triangle rows), or NONE.
+    vertex_row: Vec<u32>,
+    /// Number of constraint rows (triangles, then interior vertices).
+    rows: usize,
+    /// 3D position of each constraint row (triangle centroid, vertex), for the ordering.
+    row_points: Vec<[f64; 3]>,
+}
+
+/// π − margin − α_a − α_b: positive where the edge is strictly locally Delaunay.
+fn delaunay_slack(a: f64, b: f64) -> f64 {
+    PI - DELAUNAY_MARGIN - a - b
+}
+
+/// Right-hand side of the equality constraints J α = c.
+fn constraint_target(row: usize, triangles: usize) -> f64 {
+    if row < triangles {
+        PI
+    } else {
+        2.0 * PI
+    }
+}
+
+impl AngleProgram {
+    fn new(mesh: &TriMesh, beta: &[f64]) -> Self {
+        let twin = &mesh.connectivity().twin;
+        let corners = beta.len();
+        let mut pairs = Vec::new();
+        let mut pair_of = vec![NONE; corners];
+        for (h, &o) in twin.iter().enumerate() {
+            if o != NONE && (h as u32) < o {
+                let (a, b) = (prev(h as u32), prev(o));
+                pair_of[a as usize] = pairs.len() as u32;
+                pair_of[b as usize] = pairs.len() as u32;
+                pairs.push([a, b]);
+            }
+        }
+        let triangles = mesh.triangle_count();
+        let mut row_points = triangle_centroids(mesh);
+        let mut row_of_vertex = vec![NONE; mesh.vertex_count()];
+        for v in 0..mesh.vertex_count() as u32 {
+            if mesh.is_referenced(v) && !mesh.is_boundary_vertex(v) {
+                row_of_vertex[v as usize] = row_points.len() as u32;
+                row_points.push(mesh.points()[v as usize]);
+            }
+        }
+        let vertex_row = mesh.triangles().iter().flat_map(|t| t.map(|v| row_of_vertex[v as usize])).collect::<Vec<_>>();
+        let weight = beta.iter().map(|b| 1.0 / b.max(1e-6).powi(2)).collect();
+        debug_assert_eq!(beta.len(), 3 * triangles);
+        AngleProgram { beta: beta.to_vec(), weight, pairs, pair_of, vertex_row, rows: row_points.len(), row_points }
+    }
+
+    fn triangles(&self) -> usize {
+        self.beta.len() / 3
+    }
+
+    fn non_delaunay_edges(&self, beta: &[f64]) -> u32 {
+        self.pairs.iter().filter(|[a, b]| beta[*a as usize] + beta[*b as usize] >= PI).count() as u32
+    }
+
+    /// Slack of every inequality: the angles, then π − α_a − α_b per pair.
+    fn slacks_positive(&self, alpha: &[f64]) -> bool {
+        alpha.iter().all(|&a| a > MIN_ANGLE)
+            && self.pairs.iter().all(|[a, b]| delaunay_slack(alpha[*a as usize], alpha[*b as usize]) > 0.0)
+    }
+
+    /// A start strictly inside the inequalities, with exact triangle sums: the 3D angles
+    /// blended towards π/3 as little as needed.
+    fn start(&self) -> Vec<f64> {
+        for keep in [1.0, 0.9, 0.5, 0.0] {
+            let alpha: Vec<f64> = self.beta.iter().map(|b| keep * b + (1.0 - keep) * PI / 3.0).collect();
+            let margin = self.pairs.iter().all(|[a, b]| delaunay_slack(alpha[*a as usize], alpha[*b as usize]) > 1e-3);
+            if margin && alpha.iter().all(|&a| a > MIN_ANGLE + 1e-6) {
+                return alpha;
+            }
+        }
+        vec![PI / 3.0; self.beta.len()]
+    }
+
+    /// Gradient of t·f − Σ ln slack at α.
+    fn gradient(&self, t: f64, alpha: &[f64]) -> Vec<f64> {
+        let mut g: Vec<f64> = (0..alpha.len())
+            .map(|a| t * self.weight[a] * (alpha[a] - self.beta[a]) - 1.0 / (alpha[a] - MIN_ANGLE))
+            .collect();
+        for [a, b] in &self.pairs {
+            let s = delaunay_slack(alpha[*a as usize], alpha[*b as usize]);
+            g[*a as usize] += 1.0 / s;
+            g[*b as usize] += 1.0 / s;
+        }
+        g
+    }
+
+    /// The inverse Hessian blocks: per pair the 2×2 inverse [[p, q], [q, r]], per lone corner
+    /// 1 / h (stored as p with q = r = 0 for its own index).
+    fn inverse_blocks(&self, t: f64, alpha: &[f64]) -> Vec<[f64; 3]> {
+        let own: Vec<f64> = (0..alpha.len()).map(|a| t * self.weight[a] + (alpha[a] - MIN_ANGLE).powi(-2)).collect();
+        let mut inv: Vec<[f64; 3]> = own.iter().map(|h| [1.0 / h, 0.0, 0.0]).collect();
+        for [a, b] in &self.pairs {
+            let (a, b) = (*a as usize, *b as usize);
+            let s = delaunay_slack(alpha[a], alpha[b]);
+            let c = 1.0 / (s * s);
+            let (x, y) = (own[a] + c, own[b] + c);
+            let det = x * y - c * c;
+            // inverse of [[x, c], [c, y]]: [[y, −c], [−c, x]] / det, stored at both corners.
+            inv[a] = [y / det, -c / det, x / det];
+            inv[b] = [x / det, -c / det, y / det];
+        }
+        inv
+    }
+
+    /// H⁻¹ v (block-diagonal H).
+    fn apply_inverse(&self, inv: &[[f64; 3]], v: &[f64]) -> Vec<f64> {
+        (0..v.len())
+            .map(|a| match self.pair_of[a] {
+                NONE => inv[a][0] * v[a],
+                p => {
+                    let [x, y] = self.pairs[p as usize];
+                    let other = if x as usize == a { y } else { x } as usize;
+                    inv[a][0] * v[a] + inv[a][1] * v[other]
+                }
+            })
+            .collect()
+    }
+
+    /// The constraint rows touched by corner a.
+    fn rows_of(&self, a: usize) -> impl Iterator<Item = usize> + '_ {
+        std::iter::once(a / 3).chain((self.vertex_row[a] != NONE).then_some(self.vertex_row[a] as usize))
+    }
+
+    fn apply_j(&self, v: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; self.rows];
+        for (a, x) in v.iter().enumerate() {
+            for r in self.rows_of(a) {
+                out[r] += x;
+            }
+        }
+        out
+    }
+
+    fn apply_jt(&self, nu: &[f64]) -> Vec<f64> {
+        (0..self.beta.len()).map(|a| self.rows_of(a).map(|r| nu[r]).sum()).collect()
+    }
+
+    /// The Schur complement J H⁻¹ Jᵀ (diagonal, strictly lower entries).
+    fn schur(&self, inv: &[[f64; 3]]) -> (Vec<f64>, Vec<(u32, u32, f64)>) {
+        let mut diag = vec![0.0; self.rows];
+        let mut entries = Vec::new();
+        let mut add = |i: usize, j: usize, v: f64, diag: &mut Vec<f64>| match i.cmp(&j) {
+            std::cmp::Ordering::Equal => diag[i] += v,
+            std::cmp::Ordering::Greater => entries.push((i as u32, j as u32, v)),
+            std::cmp::Ordering::Less => {}
+        };
+        for (a, block) in inv.iter().enumerate() {
+            let partner = (self.pair_of[a] != NONE).then(|| {
+                let p = self.pairs[self.pair_of[a] as usize];
+                (if p[0] as usize == a { p[1] } else { p[0] }) as usize
+            });
+            for i in self.rows_of(a) {
+                for j in self.rows_of(a) {
+                    add(i, j, block[0], &mut diag);
+                }
+                for j in partner.into_iter().flat_map(|b| self.rows_of(b)) {
+                    add(i, j, block[1], &mut diag);
+                }
+            }
+        }
+        (diag, entries)
+    }
+
+    /// Newton step Δα on the barrier problem at weight t from α (infeasible start: the step
+    /// also removes the equality residual) and −gᵀΔα, the Newton decrement once the equalities
+    /// hold.
+    fn newton_step(&self, t: f64, alpha: &[f64], pattern: &mut Option<CholeskyPattern>) -> Result<(Vec<f64>, f64)> {
+        let g = self.gradient(t, alpha);
+        let inv = self.inverse_blocks(t, alpha);
+        let hg = self.apply_inverse(&inv, &g);
+        let triangles = self.triangles();
+        let residual: Vec<f64> =
+            self.apply_j(alpha).iter().enumerate().map(|(r, x)| x - constraint_target(r, triangles)).collect();
+        let jhg = self.apply_j(&hg);
+        let (diag, entries) = self.schur(&inv);
+        let lower = lower_from_entries(&diag, entries)?;
+        if pattern.is_none() {
+            *pattern = Some(CholeskyPattern::new(lower.symbolic(), Some(&self.row_points))?);
+        }
+        let solver = pattern
+            .as_ref()
+            .map(|p| p.factor(&lower))
+            .transpose()?
+            .ok_or_else(|| Error::Internal("circle pattern: no factorization pattern".into()))?;
+        let mut nu = Mat::from_fn(self.rows, 1, |r, _| residual[r] - jhg[r]);
+        solver.solve_in_place(&mut nu)?;
+        let nu: Vec<f64> = (0..self.rows).map(|r| nu[(r, 0)]).collect();
+        let rhs: Vec<f64> = g.iter().zip(self.apply_jt(&nu)).map(|(a, b)| a + b).collect();
+        let step: Vec<f64> = self.apply_inverse(&inv, &rhs).iter().map(|x| -x).collect();
+        let decrement = -g.iter().zip(&step).map(|(a, b)| a * b).sum::<f64>();
+        Ok((step, decrement))
+    }
+
+    /// Largest s ≤ 1 keeping every slack positive (99% of the way to the boundary).
+    fn max_step(&self, alpha: &[f64], step: &[f64]) -> f64 {
+        let mut s: f64 = 1.0;
+        for (a, d) in alpha.iter().zip(step) {
+            if *d < 0.0 {
+                s = s.min(-0.99 * (a - MIN_ANGLE) / d);
+            }
+        }
+        for [a, b] in &self.pairs {
+            let (a, b) = (*a as usize, *b as usize);
+            let d = step[a] + step[b];
+            if d > 0.0 {
+                s = s.min(0.99 * delaunay_slack(alpha[a], alpha[b]) / d);
+            }
+        }
+        s
+    }
+
+    /// The barrier path t = 1, 10², …, 10⁸ (the barrier moves an angle by about β / t);
+    /// returns the angles and the Newton step count.
+    fn solve(&self, max_iterations: u32, progress: &mut Progress) -> Result<(Vec<f64>, u32)> {
+        let mut alpha = self.start();
+        let mut pattern = None;
+        let mut iterations = 0u32;
+        let mut feasible = false;
+        let stages = 5;
+        for stage in 0..stages {
+            let t = 100f64.powi(stage);
+            let mut centred = false;
+            for _ in 0..max_iterations.max(1) {
+                let (step, decrement) = self.newton_step(t, &alpha, &mut pattern)?;
+                iterations += 1;
+                if !decrement.is_finite() {
+                    return Err(Error::Numerical("circle pattern angles: the barrier Newton step diverged".into()));
+                }
+                let s = self.max_step(&alpha, &step);
+                let s = self.backtrack(t, &alpha, &step, s);
+                for (a, d) in alpha.iter_mut().zip(&step) {
+                    *a += s * d;
+                }
+                // A full step solves the (linear) equalities; later steps keep them.
+                feasible |= s == 1.0;
+                // The decrement's rounding floor grows with t (the gradient holds t·w·(α − β),
+                // w = 1/β² large at slivers): 10⁻⁷ measured at t = 100 on disk_camelhead. A
+                // decrement λ² leaves the barrier problem λ²/2 above its minimum.
+                if feasible && decrement.abs() < 1e-6 + 1e-12 * t {
+                    centred = true;
+                    break;
+                }
+            }
+            if !centred {
+                return Err(Error::Numerical(format!(
+                    "circle pattern angles: no centred point after {max_iterations} Newton steps at t = {t:e} (the angle constraints may be infeasible)"
+                )));
+            }
+            progress.report(0.6 * (stage + 1) as f64 / stages as f64)?;
+        }
+        if !self.slacks_positive(&alpha) {
+            return Err(Error::Numerical("circle pattern angles left the feasible region".into()));
+        }
+        Ok((alpha, iterations))
+    }
+
+    /// Backtracking on the barrier value once the equalities hold (their residual is linear:
+    /// a full step removes it; before that any step that keeps the slacks positive is taken).
+    fn backtrack(&self, t: f64, alpha: &[f64], step: &[f64], mut s: f64) -> f64 {
+        let value = |x: &[f64]| -> f64 {
+            let mut v: f64 = (0..x.len())
+                .map(|a| 0.5 * t * self.weight[a] * (x[a] - self.beta[a]).powi(2) - (x[a] - MIN_ANGLE).ln())
+                .sum();
+            for [a, b] in &self.pairs {
+                v -= delaunay_slack(x[*a as usize], x[*b as usize]).ln();
+            }
+            v
+        };
+        let g = self.gradient(t, alpha);
+        let slope: f64 = g.iter().zip(step).map(|(a, b)| a * b).sum();
+        let v0 = value(alpha);
+        for _ in 0..60 {
+            let moved: Vec<f64> = alpha.iter().zip(step).map(|(a, d)| a + s * d).collect();
+            if self.slacks_positive(&moved) && (slope >= 0.0 || value(&moved) <= v0 + 1e-4 * s * slope) {
+                return s;
+            }
+            s *= 0.5;
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kite_angle_splits_theta_by_the_law_of_sines() {
+        for &theta in &[0.3, 1.5, 2.9] {
+            for &x in &[-3.0, -0.2, 0.0, 0.7, 5.0] {
+                let (phi, slope) = kite_angle(theta, x);
+                // sin φ_f / sin φ_g = r_g / r_f = eˣ with φ_f + φ_g = θ
+                assert!((phi.sin() / (theta - phi).sin() - f64::exp(x)).abs() < 1e-9 * f64::exp(x).max(1.0));
+                let h = 1e-6;
+                let numeric = (kite_angle(theta, x + h).0 - kite_angle(theta, x - h).0) / (2.0 * h);
+                assert!((slope - numeric).abs() < 1e-6, "θ {theta} x {x}: {slope} vs {numeric}");
+            }
+        }
+        assert!((kite_angle(1.0, 0.0).0 - 0.5).abs() < 1e-15);
+        assert!(kite_angle(1.0, 800.0).0 <= 1.0 && kite_angle(1.0, -800.0).0 >= 0.0);
+    }
+
+    /// A parallelogram of jittered equilateral triangles (every edge locally Delaunay) in
+    /// the plane z = 0.
+    fn jittered_lattice(n: usize, jitter: f64) -> (Vec<f64>, Vec<u32>) {
+        let mut positions = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let wiggle = |k: usize| jitter * (((i * 7 + j * 13 + k * 5) % 11) as f64 / 5.0 - 1.0);
+                positions.extend([i as f64 + 0.5 * j as f64 + wiggle(0), j as f64 * 0.75f64.sqrt() + wiggle(1), 0.0]);
+            }
+        }
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut triangles = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                triangles.extend([id(i, j), id(i + 1, j), id(i, j + 1)]);
+                triangles.extend([id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        (positions, triangles)
+    }
+
+    /// Largest distance between uv and the best similarity image of the mesh's (x, y), over
+    /// the diameter of (x, y).
+    fn similarity_error(xy: &[[f64; 2]], uv: &[[f64; 2]]) -> f64 {
+        use faer::c64;
+        let z: Vec<c64> = xy.iter().map(|p| c64::new(p[0], p[1])).collect();
+        let w: Vec<c64> = uv.iter().map(|p| c64::new(p[0], p[1])).collect();
+        let n = z.len() as f64;
+        let zm = z.iter().fold(c64::new(0.0, 0.0), |a, b| a + *b) * (1.0 / n);
+        let wm = w.iter().fold(c64::new(0.0, 0.0), |a, b| a + *b) * (1.0 / n);
+        let (mut num, mut den) = (c64::new(0.0, 0.0), 0.0);
+        for (a, b) in z.iter().zip(&w) {
+            let dz = *a - zm;
+            num += (*b - wm) * dz.conj();
+            den += dz.norm_sqr();
+        }
+        let scale = num * (1.0 / den);
+        let diameter = z.iter().map(|a| (*a - zm).norm()).fold(0.0, f64::max) * 2.0;
+        z.iter().zip(&w).map(|(a, b)| ((*a - zm) * scale + wm - *b).norm()).fold(0.0, f64::max)
+            / (diameter * scale.norm())
+    }
+
+    #[test]
+    fn newton_recovers_the_circumradii_from_perturbed_radii() {
+        let (positions, triangles) = jittered_lattice(10, 0.08);
+        let mesh = TriMesh::new(&positions, &triangles).unwrap();
+        let beta: Vec<f64> = mesh.corner_angles().iter().flatten().copied().collect();
+        let theta = intersection_angles(&mesh, &beta);
+        let exact = circumradius_logs(&mesh);
+        let mut rho: Vec<f64> =
+            exact.iter().enumerate().map(|(f, r)| r + 0.7 * ((f * 37 % 17) as f64 / 8.0 - 1.0)).collect();
+        let iterations =
+            solve_radii(&mesh, &theta, &mut rho, &CirclePatternOptions::default(), &mut Progress::none()).unwrap();
+        assert!(iterations >= 3, "{iterations} iterations");
+        let shift = rho[0] - exact[0];
+        let worst = rho.iter().zip(&exact).map(|(r, e)| (r - e - shift).abs()).fold(0.0, f64::max);
+        assert!(worst < 1e-10, "log radii off by {worst}");
+    }
+
+    #[test]
+    fn flat_delaunay_mesh_is_its_own_parameterization() {
+        let (positions, triangles) = jittered_lattice(12, 0.06);
+        let mesh = TriMesh::new(&positions, &triangles).unwrap();
+        let result = circle_pattern_map(&mesh, &CirclePatternOptions::default(), &mut Progress::none()).unwrap();
+        let xy: Vec<[f64; 2]> = positions.chunks(3).map(|p| [p[0], p[1]]).collect();
+        let error = similarity_error(&xy, &result.uv);
+        let r = result.report;
+        assert_eq!(r.non_delaunay_edges, 0);
+        assert!(r.max_angle_change < 1e-6, "{r:?}");
+        assert!(r.closure_error < 1e-10, "{r:?}");
+        assert!(error < 1e-6, "similarity error {error}, {r:?}");
+    }
+}
