@@ -3,7 +3,6 @@
 use super::{guard, mesh_from_raw, progress_closure, read_options, write_uv, UvfProgressFn};
 use crate::error::{Error, UvfStatus};
 use crate::methods::abf::{abf_with_progress, AbfOptions, AbfVariant, AbfWeights};
-use crate::methods::conformal::Pin;
 use crate::progress::Progress;
 use std::os::raw::c_void;
 
@@ -134,13 +133,7 @@ pub unsafe extern "C" fn uvf_abf(
             UVF_ABF_VARIANT_ABF_PLUS_PLUS => AbfVariant::AbfPlusPlus,
             v => return Err(Error::InvalidArgument(format!("unknown ABF variant {v}; use one of UVF_ABF_VARIANT_*"))),
         };
-        let pins: Option<[Pin; 2]> = match o.pin_count {
-            0 => None,
-            2 => {
-                Some([(o.pin_vertices[0], [o.pin_uv[0], o.pin_uv[1]]), (o.pin_vertices[1], [o.pin_uv[2], o.pin_uv[3]])])
-            }
-            n => return Err(Error::InvalidArgument(format!("pin_count must be 0 or 2, not {n}"))),
-        };
+        let pins = super::pins_from_options(o.pin_count, o.pin_vertices, o.pin_uv)?;
         let weights = match o.weights {
             UVF_ABF_WEIGHTS_ANGLE_AND_SUPPLEMENT => AbfWeights::AngleAndSupplement,
             UVF_ABF_WEIGHTS_INVERSE_SQUARE => AbfWeights::InverseSquare,

@@ -5,7 +5,6 @@ use super::{
 };
 use crate::error::{Error, UvfStatus};
 use crate::methods::circle_patterns::{circle_pattern_map, CirclePatternOptions};
-use crate::methods::conformal::Pin;
 use crate::progress::Progress;
 use std::os::raw::c_void;
 
@@ -108,13 +107,7 @@ pub unsafe extern "C" fn uvf_circle_pattern_map(
     guard(|| {
         let full = std::mem::size_of::<UvfCirclePatternOptions>();
         let o = read_options(options, UvfCirclePatternOptions::default(), full, "UvfCirclePatternOptions")?;
-        let pins: Option<[Pin; 2]> = match o.pin_count {
-            0 => None,
-            2 => {
-                Some([(o.pin_vertices[0], [o.pin_uv[0], o.pin_uv[1]]), (o.pin_vertices[1], [o.pin_uv[2], o.pin_uv[3]])])
-            }
-            n => return Err(Error::InvalidArgument(format!("pin_count must be 0 or 2, not {n}"))),
-        };
+        let pins = super::pins_from_options(o.pin_count, o.pin_vertices, o.pin_uv)?;
         if o.max_iterations == 0 {
             return Err(Error::InvalidArgument("max_iterations must be at least 1".into()));
         }

@@ -6,7 +6,7 @@ use super::{
 use crate::boundary::{BoundaryShape, Distribution};
 use crate::error::{Error, Result, UvfStatus};
 use crate::methods::barycentric::{fixed_boundary_map_with_progress, FixedBoundaryOptions, Weights};
-use crate::methods::conformal::{natural_conformal_map_with_progress, Pin};
+use crate::methods::conformal::natural_conformal_map_with_progress;
 use crate::progress::Progress;
 use std::os::raw::c_void;
 
@@ -254,13 +254,7 @@ pub unsafe extern "C" fn uvf_natural_conformal_map(
             CONFORMAL_OPTIONS_V1,
             "UvfNaturalConformalOptions",
         )?;
-        let pins: Option<[Pin; 2]> = match o.pin_count {
-            0 => None,
-            2 => {
-                Some([(o.pin_vertices[0], [o.pin_uv[0], o.pin_uv[1]]), (o.pin_vertices[1], [o.pin_uv[2], o.pin_uv[3]])])
-            }
-            n => return Err(Error::InvalidArgument(format!("pin_count must be 0 or 2, not {n}"))),
-        };
+        let pins = super::pins_from_options(o.pin_count, o.pin_vertices, o.pin_uv)?;
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let uv = natural_conformal_map_with_progress(&mesh, pins, &mut Progress::new(&mut callback))?;

@@ -156,3 +156,17 @@ pub(crate) fn write_uv(uv: &[[f64; 2]], out: *mut f64) -> Result<()> {
     }
     Ok(())
 }
+
+/// The two pins of an options struct's `pin_count`, `pin_vertices`, `pin_uv` fields (natural
+/// conformal, ABF and circle-pattern options): `None` for 0 (automatic pins), both for 2.
+pub(crate) fn pins_from_options(
+    count: u32,
+    vertices: [u32; 2],
+    uv: [f64; 4],
+) -> Result<Option<[crate::methods::conformal::Pin; 2]>> {
+    match count {
+        0 => Ok(None),
+        2 => Ok(Some([(vertices[0], [uv[0], uv[1]]), (vertices[1], [uv[2], uv[3]])])),
+        n => Err(Error::InvalidArgument(format!("pin_count must be 0 or 2, not {n}"))),
+    }
+}
