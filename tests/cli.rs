@@ -310,21 +310,33 @@ fn sphere_writes_unit_sphere_vertices_without_flips() {
 }
 
 /// `uvflat methods | head -0`: stdout closed before anything is written. The tool must exit
-/// like a C tool on SIGPIPE (status 141), without a panic message.
+/// like a C tool on SIGPIPE (status 141), without a panic message. The read end is dropped
+/// right after the spawn, so on a loaded machine the child may already have written its few
+/// lines into the pipe's buffer and exit 0, which is also right; the test tries until a run
+/// meets the closed pipe (a clean CI run once saw the race).
 #[test]
 fn a_closed_stdout_is_not_a_panic() {
     use std::process::Stdio;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_uvflat"))
-        .arg("methods")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run uvflat");
-    drop(child.stdout.take());
-    let output = child.wait_with_output().expect("wait for uvflat");
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    assert_eq!(output.status.code(), Some(141), "{stderr}");
+    let mut statuses = Vec::new();
+    for _ in 0..20 {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_uvflat"))
+            .arg("methods")
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("run uvflat");
+        drop(child.stdout.take());
+        let output = child.wait_with_output().expect("wait for uvflat");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        let code = output.status.code();
+        assert!(matches!(code, Some(0) | Some(141)), "status {code:?}: {stderr}");
+        statuses.push(code);
+        if code == Some(141) {
+            return;
+        }
+    }
+    panic!("the closed pipe was never met in 20 runs: {statuses:?}");
 }
 
 #[test]
