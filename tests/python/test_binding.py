@@ -117,7 +117,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 73, sorted(functions)
+    assert len(functions) == 75, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -146,6 +146,8 @@ STRUCTS = {
     "UvfMetrics": _library.UvfMetrics,
     "UvfAbfOptions": _library.UvfAbfOptions,
     "UvfAbfReport": _library.UvfAbfReport,
+    "UvfCirclePatternOptions": _library.UvfCirclePatternOptions,
+    "UvfCirclePatternReport": _library.UvfCirclePatternReport,
     "UvfIntrinsicToolOptions": _library.UvfIntrinsicToolOptions,
     "UvfPointConstraint": _library.UvfPointConstraint,
     "UvfNonlinearOptions": _library.UvfNonlinearOptions,
