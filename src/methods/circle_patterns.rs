@@ -43,10 +43,11 @@
 use super::abf::reconstruct_uv;
 use super::conformal::{resolve_pins, Pin};
 use crate::error::{Error, Result};
-use crate::linalg::{lower_from_entries, CholeskyPattern};
+use crate::linalg::{lower_from_entries, CholeskyPattern, CholeskySolver};
 use crate::mesh::connectivity::prev;
 use crate::mesh::{TriMesh, NONE};
 use crate::progress::Progress;
+use faer::sparse::SparseColMat;
 use faer::Mat;
 use std::f64::consts::PI;
 
@@ -227,14 +228,7 @@ fn solve_radii(
         }
         let (diag, entries) = radius_hessian(twin, theta, rho);
         let lower = lower_from_entries(&diag[1..], entries)?;
-        if pattern.is_none() {
-            pattern = Some(CholeskyPattern::new(lower.symbolic(), Some(&centroids[1..]))?);
-        }
-        let solver = pattern
-            .as_ref()
-            .map(|p| p.factor(&lower))
-            .transpose()?
-            .ok_or_else(|| Error::Internal("circle pattern: no factorization pattern".into()))?;
+        let solver = factor_reusing(&mut pattern, &lower, &centroids[1..])?;
         let mut step = Mat::from_fn(n - 1, 1, |i, _| residual[i + 1]);
         solver.solve_in_place(&mut step)?;
         let mut direction = vec![0.0; n];
@@ -293,6 +287,21 @@ fn line_search(mesh: &TriMesh, theta: &[f64], rho: &[f64], direction: &[f64]) ->
         }
     }
     lo.max(1e-12)
+}
+
+/// Factors `lower`, analysing its pattern (ordered by `points`) on the first call only.
+fn factor_reusing(
+    pattern: &mut Option<CholeskyPattern>,
+    lower: &SparseColMat<usize, f64>,
+    points: &[[f64; 3]],
+) -> Result<CholeskySolver<f64>> {
+    let analysed = match pattern.take() {
+        Some(p) => p,
+        None => CholeskyPattern::new(lower.symbolic(), Some(points))?,
+    };
+    let solver = analysed.factor(lower);
+    *pattern = Some(analysed);
+    solver
 }
 
 fn triangle_centroids(mesh: &TriMesh) -> Vec<[f64; 3]> {
@@ -494,14 +503,7 @@ impl AngleProgram {
         let jhg = self.apply_j(&hg);
         let (diag, entries) = self.schur(&inv);
         let lower = lower_from_entries(&diag, entries)?;
-        if pattern.is_none() {
-            *pattern = Some(CholeskyPattern::new(lower.symbolic(), Some(&self.row_points))?);
-        }
-        let solver = pattern
-            .as_ref()
-            .map(|p| p.factor(&lower))
-            .transpose()?
-            .ok_or_else(|| Error::Internal("circle pattern: no factorization pattern".into()))?;
+        let solver = factor_reusing(pattern, &lower, &self.row_points)?;
         let mut nu = Mat::from_fn(self.rows, 1, |r, _| residual[r] - jhg[r]);
         solver.solve_in_place(&mut nu)?;
         let nu: Vec<f64> = (0..self.rows).map(|r| nu[(r, 0)]).collect();
