@@ -145,6 +145,84 @@ pub fn cut_to_disk(mesh: &TriMesh, cost: &EdgeCost) -> Result<Cut> {
     build_cut_mesh(mesh, &edges, &cut)
 }
 
+/// Cuts a connected manifold mesh into a topological disk whose boundary passes through every
+/// vertex of `required` (e.g. the cone singularities of a frame field, which a seamless
+/// parameterization can only have on the cut). The cut graph of [`cut_to_disk`] (nothing on a
+/// closed genus-0 mesh with two or more required vertices) is joined to the required vertices
+/// by the paths of one shortest-path forest grown from it (a forest hanging from the graph, so
+/// the complement stays a disk); dangling branches that end at no required vertex are pruned.
+pub fn cut_to_disk_through(mesh: &TriMesh, cost: &EdgeCost, required: &[u32]) -> Result<Cut> {
+    let topology = mesh.topology();
+    if topology.components != 1 {
+        return Err(Error::MultipleComponents { components: topology.components });
+    }
+    if let Some(&v) = required.iter().find(|&&v| !mesh.is_referenced(v)) {
+        return Err(Error::InvalidArgument(format!("required cut vertex {v} is not a vertex of a triangle")));
+    }
+    let edges = Edges::new(mesh);
+    let costs = edge_costs(mesh, &edges, cost)?;
+    let sphere = topology.boundary_loops == 0 && topology.genus == 0;
+    let mut keep = vec![false; mesh.vertex_count()];
+    for &v in required {
+        keep[v as usize] = true;
+    }
+    let distinct = keep.iter().filter(|&&k| k).count();
+    let mut cut = match (sphere, distinct) {
+        (true, 0 | 1) => sphere_cut_path(mesh, &edges, &costs),
+        (true, _) => vec![false; edges.len()],
+        (false, _) => cut_graph(mesh, &edges, &costs),
+    };
+    join_required(mesh, &edges, &costs, &mut cut, &keep);
+    if !(sphere && distinct < 2) {
+        prune_dangling_keeping(mesh, &edges, &mut cut, &keep);
+    }
+    for (e, &h) in edges.halfedge.iter().enumerate() {
+        if mesh.connectivity().is_boundary(h) {
+            cut[e] = false;
+        }
+    }
+    if sphere && cut.iter().filter(|&&c| c).count() == 1 {
+        // Two required vertices joined by one edge: a one-edge slit does not open the sphere;
+        // it is extended by one more edge at one end.
+        let e = cut.iter().position(|&c| c).unwrap_or(0);
+        let h = edges.halfedge[e];
+        let (a, b) = (mesh.tail(h), mesh.head(h));
+        if let Some(g) = mesh.outgoing_halfedges(b).find(|&g| mesh.head(g) != a) {
+            cut[edges.edge_of[g as usize] as usize] = true;
+        }
+    }
+    build_cut_mesh(mesh, &edges, &cut)
+}
+
+/// Adds to `cut` the shortest path from the graph (or, when it is empty, from the first
+/// required vertex) to every required vertex off it.
+fn join_required(mesh: &TriMesh, edges: &Edges, costs: &[f64], cut: &mut [bool], keep: &[bool]) {
+    let mut on_graph = vec![false; mesh.vertex_count()];
+    for (e, &h) in edges.halfedge.iter().enumerate() {
+        if cut[e] {
+            on_graph[mesh.tail(h) as usize] = true;
+            on_graph[mesh.head(h) as usize] = true;
+        }
+    }
+    let mut sources: Vec<u32> = (0..mesh.vertex_count() as u32).filter(|&v| on_graph[v as usize]).collect();
+    if sources.is_empty() {
+        match keep.iter().position(|&k| k) {
+            Some(v) => sources.push(v as u32),
+            None => return,
+        }
+    }
+    let (_, parent) = shortest_path_tree(mesh, edges, costs, &sources);
+    for v in (0..mesh.vertex_count() as u32).filter(|&v| keep[v as usize]) {
+        let mut w = v;
+        while parent[w as usize] != NONE && !cut[parent[w as usize] as usize] {
+            let e = parent[w as usize];
+            cut[e as usize] = true;
+            let h = edges.halfedge[e as usize];
+            w = if mesh.tail(h) == w { mesh.head(h) } else { mesh.tail(h) };
+        }
+    }
+}
+
 /// Cost of every edge, checked finite and non-negative.
 fn edge_costs(mesh: &TriMesh, edges: &Edges, cost: &EdgeCost) -> Result<Vec<f64>> {
     let twin = &mesh.connectivity().twin;
@@ -383,6 +461,11 @@ fn cut_graph_from(mesh: &TriMesh, edges: &Edges, costs: &[f64], sources: &[u32])
 
 /// Removes degree-one vertices of the cut graph (and their edge) until none is left.
 fn prune_dangling(mesh: &TriMesh, edges: &Edges, cut: &mut [bool]) {
+    prune_dangling_keeping(mesh, edges, cut, &vec![false; mesh.vertex_count()]);
+}
+
+/// [`prune_dangling`], except that the vertices marked in `keep` stay even at degree one.
+fn prune_dangling_keeping(mesh: &TriMesh, edges: &Edges, cut: &mut [bool], keep: &[bool]) {
     let n = mesh.vertex_count();
     let mut degree = vec![0u32; n];
     for (e, &h) in edges.halfedge.iter().enumerate() {
@@ -391,9 +474,9 @@ fn prune_dangling(mesh: &TriMesh, edges: &Edges, cut: &mut [bool]) {
             degree[mesh.head(h) as usize] += 1;
         }
     }
-    let mut stack: Vec<u32> = (0..n as u32).filter(|&v| degree[v as usize] == 1).collect();
+    let mut stack: Vec<u32> = (0..n as u32).filter(|&v| degree[v as usize] == 1 && !keep[v as usize]).collect();
     while let Some(v) = stack.pop() {
-        if degree[v as usize] != 1 {
+        if degree[v as usize] != 1 || keep[v as usize] {
             continue;
         }
         // A degree-one vertex is interior (boundary vertices have two boundary edges), so its

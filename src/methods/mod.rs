@@ -14,5 +14,6 @@ pub mod length_area_distortion;
 pub mod near_optimal;
 pub mod nonlinear;
 pub mod pgp;
+pub mod quadcover;
 pub mod spectral_conformal;
 pub mod sphere;

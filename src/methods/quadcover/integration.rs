@@ -1,0 +1,301 @@
+//! QuadCover, step 3: integrating the frame field into a parameterization on the covering
+//! (Kälberer, Nieser & Polthier 2007; course notes §8.3, eq. 8.6:
+//! minimize E(f) = ∫ |∇f − K|² dA over the covering). The minimizer's gradient is the gradient
+//! and harmonic part of the Hodge decomposition K = P_K + C_K + H_K (eq. 8.7) with the
+//! co-gradient part C_K discarded, so solving the normal equations of eq. 8.6 performs steps 1,
+//! 2 and 4 of the notes' outline at once.
+//!
+//! Discretization: f is piecewise linear on the cut mesh, each copy written as an affine
+//! function of the unknowns ([`super::covering`]); K is the combed frame per triangle scaled
+//! by 1/h (h the grid spacing): ∇u ≈ X₀/h, ∇v ≈ X₁/h. Per triangle, with the gradients ∇φ_i
+//! of the hat functions, `A |Σ_i s_i ∇φ_i − X|² = Σ_ij A ∇φ_i·∇φ_j s_i s_j − 2 Σ_i A ∇φ_i·X s_i
+//! + A|X|²` (the cotangent stiffness and the divergence of X).
+//!
+//! Global continuity (§8.3.1): the gaps of the first solve are rounded to integers and the map
+//! solved again with them fixed — the notes' harmonic correction ψ with gaps round(d_i) − d_i,
+//! added to f⁰, is exactly the minimizer of eq. 8.6 under the rounded gaps.
+
+use super::covering::Covering;
+use crate::error::{Error, Result};
+use crate::geometry::{cross, dot, norm, sub};
+use crate::linalg::{require_finite, CholeskySolver, TripletBuilder};
+use crate::mesh::cut::Cut;
+use crate::progress::Progress;
+use crate::TriMesh;
+use faer::linalg::solvers::{DenseSolveCore, Solve};
+use faer::{Mat, Side};
+
+/// Per triangle: its area and the gradients of its three hat functions (zero for a degenerate
+/// triangle, which then adds nothing to the energy).
+fn hat_gradients(mesh: &TriMesh, t: usize) -> (f64, [[f64; 3]; 3]) {
+    let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
+    let nn = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+    let twice_area = norm(nn);
+    if twice_area <= f64::MIN_POSITIVE {
+        return (0.0, [[0.0; 3]; 3]);
+    }
+    let n = nn.map(|x| x / twice_area);
+    let grads = std::array::from_fn(|i| cross(n, sub(p[(i + 2) % 3], p[(i + 1) % 3])).map(|x| x / twice_area));
+    (0.5 * twice_area, grads)
+}
+
+/// The two target gradients of triangle t: X₀/h and (n × X₀)/h.
+fn targets(mesh: &TriMesh, frames: &[[f64; 3]], t: usize, scale: f64) -> [[f64; 3]; 2] {
+    let n = crate::methods::pgp::frames::triangle_normal(mesh, t);
+    [frames[t].map(|x| x * scale), cross(n, frames[t]).map(|x| x * scale)]
+}
+
+/// The normal equations of eq. 8.6 split between the real unknowns (v: vertex positions,
+/// numbered first by [`Covering`]) and the integer ones (z: gaps and cone coordinates).
+struct Blocks {
+    /// Lower triangle of H_vv.
+    hvv: TripletBuilder<f64>,
+    /// Column k of H_vz, sparse.
+    hvz: Vec<Vec<(u32, f64)>>,
+    /// H_zz, dense.
+    hzz: Mat<f64>,
+    bv: Mat<f64>,
+    bz: Vec<f64>,
+    /// A surface point per real unknown (for the fill-reducing order).
+    coords: Vec<[f64; 3]>,
+}
+
+/// Assembles eq. 8.6 over all unknowns of `covering` (module comment).
+fn assemble(mesh: &TriMesh, cut: &Cut, frames: &[[f64; 3]], scale: f64, covering: &Covering) -> Blocks {
+    let (m, nv) = (covering.lattice_len(), covering.vertex_unknowns);
+    let mut b = Blocks {
+        hvv: TripletBuilder::with_capacity(nv, 20 * mesh.triangle_count()),
+        hvz: vec![Vec::new(); m],
+        hzz: Mat::zeros(m, m),
+        bv: Mat::zeros(nv, 1),
+        bz: vec![0.0; m],
+        coords: vec![[0.0; 3]; nv],
+    };
+    for (c, rows) in covering.rows.iter().enumerate() {
+        let p = mesh.points()[cut.original[c] as usize];
+        for &(k, _) in rows.iter().flatten().filter(|&&(k, _)| (k as usize) < nv) {
+            b.coords[k as usize] = p;
+        }
+    }
+    for t in 0..mesh.triangle_count() {
+        let (area, grads) = hat_gradients(mesh, t);
+        let corners = cut.triangles[t];
+        for (comp, x) in targets(mesh, frames, t, scale).iter().enumerate() {
+            for i in 0..3 {
+                let g = area * dot(grads[i], *x);
+                for &(a, ca) in &covering.rows[corners[i] as usize][comp] {
+                    let a = a as usize;
+                    if a < nv {
+                        b.bv[(a, 0)] += g * ca;
+                    } else {
+                        b.bz[a - nv] += g * ca;
+                    }
+                    for j in 0..3 {
+                        let k = area * dot(grads[i], grads[j]);
+                        for &(bb, cb) in &covering.rows[corners[j] as usize][comp] {
+                            let bb = bb as usize;
+                            let value = k * ca * cb;
+                            match (a < nv, bb < nv) {
+                                (true, true) if bb <= a => b.hvv.add(a, bb, value),
+                                (false, true) => b.hvz[a - nv].push((bb as u32, value)),
+                                (false, false) => b.hzz[(a - nv, bb - nv)] += value,
+                                _ => {}
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    b
+}
+
+/// The two solves of QuadCover: the continuous minimizer of eq. 8.6 and, with `round`, the
+/// minimizer with every integer unknown rounded (§8.3.1). Returns (continuous, final, largest
+/// distance of a continuous integer unknown to its integer).
+///
+/// One sparse factorization of H_vv serves both: the integer unknowns are few (gaps and cone
+/// coordinates), so the energy is reduced onto them exactly (Schur complement
+/// S = H_zz − H_zv H_vv⁻¹ H_vz, one solve per integer unknown). They are then rounded one at a
+/// time, the one closest to its integer first, the others re-optimized after each (the greedy
+/// order of Bommes, Zimmer & Kobbelt 2009, "Mixed-integer quadrangulation", §4; the course
+/// notes round all at once, which folds the map where cones are close): with P = S⁻¹, fixing
+/// z_k = a moves the optimum by (a − z_k) P e_k / P_kk and P loses row and column k
+/// (P ← P − P e_k e_kᵀ P / P_kk), O(m²) per step.
+pub fn integrate(
+    mesh: &TriMesh,
+    cut: &Cut,
+    frames: &[[f64; 3]],
+    scale: f64,
+    covering: &Covering,
+    round: bool,
+    progress: &mut Progress,
+    span: (f64, f64),
+) -> Result<(Vec<f64>, Vec<f64>, f64)> {
+    let mut blocks = assemble(mesh, cut, frames, scale, covering);
+    let (m, nv) = (blocks.hzz.nrows(), blocks.bv.nrows());
+    let solver = CholeskySolver::new(&blocks.hvv.build()?, Some(&blocks.coords))
+        .map_err(|e| Error::Numerical(format!("QuadCover: the integration system could not be factored: {e}")))?;
+    let mut hinv_b = blocks.bv.clone();
+    solver.solve_in_place(&mut hinv_b)?;
+    // S and c = b_z − H_zv H_vv⁻¹ b_v over all lattice scalars, in blocks of columns.
+    let mut s = blocks.hzz.clone();
+    let c = Mat::<f64>::from_fn(m, 1, |i, _| blocks.bz[i] - sparse_dot(&blocks.hvz[i], &hinv_b, 0));
+    const BLOCK: usize = 32;
+    for k0 in (0..m).step_by(BLOCK) {
+        let w = BLOCK.min(m - k0);
+        let mut x = Mat::<f64>::zeros(nv, w);
+        for j in 0..w {
+            for &(r, value) in &blocks.hvz[k0 + j] {
+                x[(r as usize, j)] += value;
+            }
+        }
+        solver.solve_in_place(&mut x)?;
+        for i in 0..m {
+            for j in 0..w {
+                s[(i, k0 + j)] -= sparse_dot(&blocks.hvz[i], &x, j);
+            }
+        }
+        progress.report(span.0 + (span.1 - span.0) * 0.7 * (k0 + w) as f64 / m as f64)?;
+    }
+    // Onto the free lattice scalars: z = D w.
+    let d = Mat::<f64>::from_fn(m, covering.free_lattice, |_, _| 0.0);
+    let mut d = d;
+    for (k, row) in covering.lattice.iter().enumerate() {
+        for &(j, x) in row {
+            d[(k, j as usize)] += x;
+        }
+    }
+    let sw = d.transpose() * (&s * &d);
+    let cw = d.transpose() * &c;
+    let (w_continuous, p) = reduced_minimizer(&sw, &cw)?;
+    let lattice_of = |w: &[f64]| -> Vec<f64> {
+        let wm = Mat::<f64>::from_fn(w.len(), 1, |i, _| w[i]);
+        let z = &d * &wm;
+        (0..m).map(|k| z[(k, 0)]).collect()
+    };
+    let continuous = real_unknowns(&solver, &mut blocks, &lattice_of(&w_continuous))?;
+    let offset = w_continuous.iter().map(|z| (z - z.round()).abs()).fold(0.0, f64::max);
+    if !round || w_continuous.is_empty() {
+        return Ok((continuous.clone(), continuous, offset));
+    }
+    let w = greedy_rounding(w_continuous, p)?;
+    let rounded = real_unknowns(&solver, &mut blocks, &lattice_of(&w))?;
+    Ok((continuous, rounded, offset))
+}
+
+/// Σ value · x[row, col] over a sparse column.
+fn sparse_dot(column: &[(u32, f64)], x: &Mat<f64>, col: usize) -> f64 {
+    column.iter().map(|&(r, value)| value * x[(r as usize, col)]).sum()
+}
+
+/// Minimizer of ½ wᵀ S w − cᵀ w and S⁻¹. Unknowns that no triangle sees (a zero row of S, e.g.
+/// the gap of a chain every vertex of which is fixed by others) are fixed at 0 first.
+fn reduced_minimizer(s: &Mat<f64>, c: &Mat<f64>) -> Result<(Vec<f64>, Mat<f64>)> {
+    let m = s.nrows();
+    let scale = (0..m).map(|i| s[(i, i)].abs()).fold(0.0, f64::max);
+    let live: Vec<usize> = (0..m).filter(|&i| s[(i, i)] > 1e-12 * scale).collect();
+    let mut w = vec![0.0; m];
+    let mut p = Mat::<f64>::zeros(m, m);
+    if live.is_empty() {
+        return Ok((w, p));
+    }
+    let sl = Mat::<f64>::from_fn(live.len(), live.len(), |i, j| s[(live[i], live[j])]);
+    let llt = sl.llt(Side::Lower).map_err(|_| {
+        Error::Numerical("QuadCover: the energy reduced onto the gaps and cones is not positive definite".into())
+    })?;
+    let pl = llt.inverse();
+    for (i, &a) in live.iter().enumerate() {
+        w[a] = live.iter().enumerate().map(|(j, &b)| pl[(i, j)] * c[(b, 0)]).sum();
+        for (j, &b) in live.iter().enumerate() {
+            p[(a, b)] = pl[(i, j)];
+        }
+    }
+    require_finite(w.iter().copied(), "QuadCover gaps")?;
+    Ok((w, p))
+}
+
+/// Free integer unknowns above which [`greedy_rounding`] rounds them in batches.
+const BATCH_ABOVE: usize = 256;
+
+/// Greedy rounding (see [`integrate`]). Above [`BATCH_ABOVE`] free unknowns, the closest
+/// sixteenth of them is rounded together (block conditioning: z_r += P_rk P_kk⁻¹ (a − z_k),
+/// P_rr ← P_rr − P_rk P_kk⁻¹ P_kr), so that the whole costs O(m³) once rather than per unknown.
+fn greedy_rounding(mut z: Vec<f64>, mut p: Mat<f64>) -> Result<Vec<f64>> {
+    // p is S⁻¹ restricted to the still free unknowns `free` (in that order); unknowns no
+    // triangle sees are 0 already.
+    let mut free: Vec<usize> = (0..z.len()).filter(|&i| p[(i, i)] > 0.0).collect();
+    p = Mat::from_fn(free.len(), free.len(), |i, j| p[(free[i], free[j])]);
+    let distance = |x: f64| (x - x.round()).abs();
+    while !free.is_empty() {
+        let f = free.len();
+        let batch = if f > BATCH_ABOVE { f / 16 } else { 1 };
+        let mut order: Vec<usize> = (0..f).collect();
+        order.sort_by(|&a, &b| distance(z[free[a]]).total_cmp(&distance(z[free[b]])).then(a.cmp(&b)));
+        let (chosen, rest) = order.split_at(batch);
+        let delta = Mat::<f64>::from_fn(batch, 1, |i, _| z[free[chosen[i]]].round() - z[free[chosen[i]]]);
+        let pkk = Mat::<f64>::from_fn(batch, batch, |i, j| p[(chosen[i], chosen[j])]);
+        let prk = Mat::<f64>::from_fn(rest.len(), batch, |i, j| p[(rest[i], chosen[j])]);
+        let llt = pkk
+            .llt(Side::Lower)
+            .map_err(|_| Error::Numerical("QuadCover: rounding met a singular block of the reduced energy".into()))?;
+        let y = llt.solve(&delta);
+        let shift = &prk * &y;
+        for (i, &r) in rest.iter().enumerate() {
+            z[free[r]] += shift[(i, 0)];
+        }
+        for &k in chosen {
+            z[free[k]] = z[free[k]].round();
+        }
+        let update = &prk * llt.solve(prk.transpose());
+        p = Mat::from_fn(rest.len(), rest.len(), |i, j| p[(rest[i], rest[j])] - update[(i, j)]);
+        free = rest.iter().map(|&r| free[r]).collect();
+    }
+    Ok(z)
+}
+
+/// All unknowns for the integer ones `z`: the real ones solve H_vv y = b_v − H_vz z.
+fn real_unknowns(solver: &CholeskySolver<f64>, blocks: &mut Blocks, z: &[f64]) -> Result<Vec<f64>> {
+    let mut rhs = blocks.bv.clone();
+    for (k, column) in blocks.hvz.iter().enumerate() {
+        for &(r, value) in column {
+            rhs[(r as usize, 0)] -= value * z[k];
+        }
+    }
+    solver.solve_in_place(&mut rhs)?;
+    let nv = rhs.nrows();
+    require_finite((0..nv).map(|k| rhs[(k, 0)]), "QuadCover parameterization")?;
+    Ok((0..nv).map(|k| rhs[(k, 0)]).chain(z.iter().copied()).collect())
+}
+
+/// Value of a sparse row.
+pub fn evaluate(row: &[(u32, f64)], values: &[f64]) -> f64 {
+    row.iter().map(|&(k, x)| x * values[k as usize]).sum()
+}
+
+/// Per-corner (u, v) of every input triangle.
+pub fn corner_uv(cut: &Cut, covering: &Covering, values: &[f64]) -> Vec<[[f64; 2]; 3]> {
+    cut.triangles
+        .iter()
+        .map(|tri| tri.map(|c| covering.rows[c as usize].each_ref().map(|r| evaluate(r, values))))
+        .collect()
+}
+
+/// Eq. 8.6 relative to the field's own energy: Σ A |∇f − K|² / Σ A |K|² (0 for a map whose
+/// gradients are exactly the field).
+pub fn relative_energy(mesh: &TriMesh, frames: &[[f64; 3]], scale: f64, uv: &[[[f64; 2]; 3]]) -> f64 {
+    let (mut misfit, mut total) = (0.0, 0.0);
+    for (t, q) in uv.iter().enumerate() {
+        let (area, grads) = hat_gradients(mesh, t);
+        for (comp, x) in targets(mesh, frames, t, scale).iter().enumerate() {
+            let g: [f64; 3] = std::array::from_fn(|d| (0..3).map(|i| q[i][comp] * grads[i][d]).sum());
+            misfit += area * dot(sub(g, *x), sub(g, *x));
+            total += area * dot(*x, *x);
+        }
+    }
+    if total > 0.0 {
+        misfit / total
+    } else {
+        0.0
+    }
+}

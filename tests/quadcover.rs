@@ -1,0 +1,265 @@
+//! QuadCover (Kälberer, Nieser & Polthier 2007; course notes ch. 8) checked against what a
+//! seamless, integer-gap parameterization must be, on analytic surfaces and the real meshes of
+//! `../shared/meshes`:
+//! - across every interior edge the (u, v) of the two triangles differ by a grid automorphism
+//!   `J^r z + t` with t integer (§8.2.1 eq. 8.2, §8.3.1), measured directly on the output;
+//! - every cone sits at an integer point, and the cone indices sum to 2 − 2g (Hopf–Poincaré);
+//! - a flat mesh with a constant field is its own parameterization (scaled by 1/h);
+//! - a torus sampled from its parametric form has no cone, no fold, and gradients along the
+//!   principal directions.
+//!
+//! Run with `--nocapture` for the per-mesh table.
+
+#[path = "common/meshes.rs"]
+mod meshes;
+#[path = "common/surfaces.rs"]
+mod surfaces;
+
+use meshes::{closed_meshes, load};
+use std::time::Instant;
+use uvflat::geometry::{cross, dot, norm};
+use uvflat::mesh::NONE;
+use uvflat::methods::quadcover::{quadcover, QuadCoverOptions, QuadCoverResult};
+use uvflat::progress::Progress;
+use uvflat::TriMesh;
+
+/// J^r (u, v) with J(u, v) = (v, −u).
+fn rotate(r: u8, x: [f64; 2]) -> [f64; 2] {
+    (0..r).fold(x, |x, _| [x[1], -x[0]])
+}
+
+/// Across every interior edge: the largest misfit of the best rotation between the two
+/// triangles' images of the edge, and the largest distance of the translation to Z².
+fn seam_errors(mesh: &TriMesh, uv: &[[[f64; 2]; 3]]) -> (f64, f64) {
+    let twin = &mesh.connectivity().twin;
+    let (mut rotation_error, mut translation_error) = (0.0f64, 0.0f64);
+    for h in 0..twin.len() {
+        let g = twin[h] as usize;
+        if twin[h] == NONE || g < h {
+            continue;
+        }
+        // Corner h % 3 of h's triangle is tail(h) = head(g); tail(g) = head(h).
+        let (fa, fb) = (uv[h / 3][h % 3], uv[h / 3][(h % 3 + 1) % 3]);
+        let (gb, ga) = (uv[g / 3][g % 3], uv[g / 3][(g % 3 + 1) % 3]);
+        let d_f = [fb[0] - fa[0], fb[1] - fa[1]];
+        let d_g = [gb[0] - ga[0], gb[1] - ga[1]];
+        let (r, misfit) = (0..4u8)
+            .map(|r| {
+                let q = rotate(r, d_f);
+                (r, (q[0] - d_g[0]).hypot(q[1] - d_g[1]))
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("four rotations");
+        let q = rotate(r, fa);
+        let t = [ga[0] - q[0], ga[1] - q[1]];
+        rotation_error = rotation_error.max(misfit);
+        translation_error = translation_error.max((t[0] - t[0].round()).abs().max((t[1] - t[1].round()).abs()));
+    }
+    (rotation_error, translation_error)
+}
+
+/// Largest distance of a cone's (u, v) (in any of its corners) to Z².
+fn cone_error(mesh: &TriMesh, result: &QuadCoverResult) -> f64 {
+    let mut err = 0.0f64;
+    for &(v, _) in &result.cones {
+        for h in mesh.outgoing_halfedges(v) {
+            let q = result.uv[(h / 3) as usize][(h % 3) as usize];
+            err = err.max((q[0] - q[0].round()).abs().max((q[1] - q[1].round()).abs()));
+        }
+    }
+    err
+}
+
+fn run(mesh: &TriMesh, options: &QuadCoverOptions) -> QuadCoverResult {
+    quadcover(mesh, options, &mut Progress::none()).expect("quadcover")
+}
+
+/// Mean over triangles of the angle (degrees, modulo 90°) between ∇u and the field.
+fn alignment_degrees(mesh: &TriMesh, result: &QuadCoverResult) -> f64 {
+    let mut total = 0.0;
+    for (t, q) in result.uv.iter().enumerate() {
+        let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
+        let n = uvflat::methods::pgp::frames::triangle_normal(mesh, t);
+        let values = [q[0][0], q[1][0], q[2][0]];
+        let g = uvflat::methods::pgp::frames::triangle_gradient(&p, n, values);
+        let x = result.frames[t];
+        let angle = dot(cross(x, g), n).atan2(dot(x, g)).rem_euclid(std::f64::consts::FRAC_PI_2);
+        total += angle.min(std::f64::consts::FRAC_PI_2 - angle).to_degrees();
+    }
+    total / result.uv.len() as f64
+}
+
+#[test]
+fn real_meshes_get_integer_seams_and_cones_and_hopf_poincare_holds() {
+    let mut names = closed_meshes();
+    // The large scans (> 80k faces) and the genus-133 cheese (1500 cones) take minutes: the
+    // README table has them.
+    names.retain(|n| !["kitten", "nefertiti", "armadillo", "cheese"].iter().any(|k| n.contains(k)));
+    names.extend(["holes_pig.obj", "holes_annulus.obj", "disk_lilium.obj", "disk_spothead.obj"].map(String::from));
+    println!("| mesh | faces | cones | chains | flipped | energy cont. | energy | alignment ° | seconds |");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for name in &names {
+        let mesh = load(name);
+        let start = Instant::now();
+        let result = run(&mesh, &QuadCoverOptions::default());
+        let secs = start.elapsed().as_secs_f64();
+        println!(
+            "| {name} | {} | {} | {} | {} | {:.4} | {:.4} | {:.2} | {secs:.2} |",
+            mesh.triangle_count(),
+            result.cones.len(),
+            result.chains,
+            result.flipped,
+            result.energy_continuous,
+            result.energy,
+            alignment_degrees(&mesh, &result)
+        );
+        let (rot, trans) = seam_errors(&mesh, &result.uv);
+        assert!(rot < 1e-6 && trans < 1e-6, "{name}: seam misfit {rot:.2e}, translation off Z² by {trans:.2e}");
+        assert!(result.lattice_error < 1e-6, "{name}: a gap or cone coordinate off Z by {}", result.lattice_error);
+        assert!(cone_error(&mesh, &result) < 1e-6, "{name}: a cone off the integer grid");
+        assert!(result.energy.is_finite() && result.energy >= result.energy_continuous - 1e-9, "{name}");
+        let t = mesh.topology();
+        if t.boundary_loops == 0 {
+            let sum: f64 = result.cones.iter().map(|c| c.1).sum();
+            assert!((sum - (2.0 - 2.0 * t.genus as f64)).abs() < 1e-6, "{name}: indices sum to {sum}");
+            for &(v, index) in &result.cones {
+                assert!((4.0 * index - (4.0 * index).round()).abs() < 1e-6 && index.abs() > 0.2, "{name}: {v} {index}");
+            }
+        }
+        if result.cones.is_empty() {
+            assert_eq!(result.flipped, 0, "{name}: a map without cones must not fold");
+        }
+        // Rounding costs energy, but the map stays close to the field where cones are apart.
+        assert!(
+            (result.flipped as f64) < 0.25 * mesh.triangle_count() as f64,
+            "{name}: {} of {} triangles folded",
+            result.flipped,
+            mesh.triangle_count()
+        );
+    }
+}
+
+#[test]
+fn a_sampled_torus_has_no_cone_no_fold_and_follows_its_principal_directions() {
+    let s = surfaces::torus(2.0, 0.7, 80, 32);
+    let mesh = TriMesh::new(&s.positions, &s.triangles).expect("torus");
+    let result = run(&mesh, &QuadCoverOptions::default());
+    assert!(result.cones.is_empty(), "{:?}", result.cones);
+    assert_eq!(result.flipped, 0);
+    let (rot, trans) = seam_errors(&mesh, &result.uv);
+    assert!(rot < 1e-6 && trans < 1e-6, "{rot:e} {trans:e}");
+    // The field follows the parallels and meridians (principal directions of a torus of
+    // revolution): the angle of the field to the nearest one, and of ∇u to the field.
+    let mut field_error = 0.0f64;
+    for (t, x) in result.frames.iter().enumerate() {
+        let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
+        let c: [f64; 3] = std::array::from_fn(|d| (p[0][d] + p[1][d] + p[2][d]) / 3.0);
+        let parallel = [-c[1], c[0], 0.0];
+        let cos = dot(*x, parallel).abs() / norm(parallel);
+        let sin = norm(cross(*x, parallel)) / norm(parallel);
+        field_error = field_error.max(sin.min(cos).asin().to_degrees());
+    }
+    assert!(field_error < 5.0, "field off the principal directions by {field_error:.2}°");
+    let alignment = alignment_degrees(&mesh, &result);
+    assert!(alignment < 2.0, "∇u off the field by {alignment:.2}° on average");
+}
+
+#[test]
+fn a_flat_mesh_with_a_constant_field_is_its_own_parameterization() {
+    // A jittered flat grid in the plane z = 0.
+    let n = 12;
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let jitter = if i % n == 0 || j % n == 0 { 0.0 } else { 0.2 * (((i * 7 + j * 13) % 5) as f64 / 5.0 - 0.4) };
+            positions.extend([i as f64 + jitter, j as f64 - 0.7 * jitter, 0.0]);
+        }
+    }
+    let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            triangles.extend([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let mesh = TriMesh::new(&positions, &triangles).expect("grid");
+    let h = 2.5;
+    let options = QuadCoverOptions {
+        grid_spacing: Some(h),
+        field: Some(vec![[1.0, 0.0, 0.0]; mesh.triangle_count()]),
+        ..Default::default()
+    };
+    let result = run(&mesh, &options);
+    assert!(result.cones.is_empty() && result.flipped == 0);
+    assert!(result.energy < 1e-20, "{}", result.energy);
+    // uv = (x, y)/h + constant at every corner.
+    let (t0, p0) = (result.uv[0][0], mesh.points()[mesh.triangles()[0][0] as usize]);
+    for (t, q) in result.uv.iter().enumerate() {
+        for k in 0..3 {
+            let p = mesh.points()[mesh.triangles()[t][k] as usize];
+            let expected = [t0[0] + (p[0] - p0[0]) / h, t0[1] + (p[1] - p0[1]) / h];
+            assert!((q[k][0] - expected[0]).abs() < 1e-9 && (q[k][1] - expected[1]).abs() < 1e-9, "{t} {k}");
+        }
+    }
+}
+
+#[test]
+fn the_map_turns_with_the_mesh_and_scales_with_the_grid() {
+    // Conformal-like invariance: rotating the surface and scaling it together with the grid
+    // spacing gives the same (u, v) up to the gauge (one translation and rotation of the grid).
+    let mesh = load("closed_g1_knot.obj");
+    let (c, s, k) = (0.6f64, 0.8f64, 3.0);
+    let moved: Vec<f64> = mesh
+        .points()
+        .iter()
+        .flat_map(|p| [k * (c * p[0] - s * p[1]) + 5.0, k * (s * p[0] + c * p[1]), k * p[2] - 2.0])
+        .collect();
+    let tris: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
+    let other = TriMesh::new(&moved, &tris).expect("moved");
+    let h = 3.0 * uvflat::methods::pgp::smoothing::mean_edge_length(&mesh);
+    let a = run(&mesh, &QuadCoverOptions { grid_spacing: Some(h), ..Default::default() });
+    let b = run(&other, &QuadCoverOptions { grid_spacing: Some(k * h), ..Default::default() });
+    assert_eq!(a.cones.len(), b.cones.len());
+    // Compare edge vectors of every triangle up to one global quarter turn.
+    let best = (0..4u8)
+        .map(|r| {
+            a.uv.iter()
+                .zip(&b.uv)
+                .map(|(p, q)| {
+                    let d = rotate(r, [p[1][0] - p[0][0], p[1][1] - p[0][1]]);
+                    (d[0] - (q[1][0] - q[0][0])).hypot(d[1] - (q[1][1] - q[0][1]))
+                })
+                .fold(0.0f64, f64::max)
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(best < 1e-6, "largest edge difference {best:e}");
+}
+
+#[test]
+fn bad_options_and_fields_are_errors_naming_the_problem() {
+    let s = surfaces::torus(2.0, 0.7, 20, 8);
+    let mesh = TriMesh::new(&s.positions, &s.triangles).expect("torus");
+    let err =
+        quadcover(&mesh, &QuadCoverOptions { grid_spacing: Some(-1.0), ..Default::default() }, &mut Progress::none())
+            .expect_err("negative spacing");
+    assert!(err.to_string().contains("grid_spacing"), "{err}");
+    let err = quadcover(
+        &mesh,
+        &QuadCoverOptions { field: Some(vec![[1.0, 0.0, 0.0]; 3]), ..Default::default() },
+        &mut Progress::none(),
+    )
+    .expect_err("short field");
+    assert!(err.to_string().contains("triangles"), "{err}");
+    let mut field: Vec<[f64; 3]> = result_field(&mesh);
+    field[7] = [f64::NAN, 0.0, 0.0];
+    let err = quadcover(&mesh, &QuadCoverOptions { field: Some(field), ..Default::default() }, &mut Progress::none())
+        .expect_err("NaN");
+    assert!(err.to_string().contains("triangle 7"), "{err}");
+    let mut cancelled = |_f: f64| false;
+    let err = quadcover(&mesh, &QuadCoverOptions::default(), &mut Progress::new(&mut cancelled)).expect_err("cancel");
+    assert!(matches!(err, uvflat::error::Error::Cancelled), "{err}");
+}
+
+fn result_field(mesh: &TriMesh) -> Vec<[f64; 3]> {
+    run(mesh, &QuadCoverOptions::default()).frames
+}
