@@ -383,6 +383,19 @@
 #define PERIODIC_ITERATIONS 100
 
 /**
+ * Default grid spacing in mean edge lengths. Rounding puts every cone on a grid point, so
+ * cones closer than a cell or two fold the map between them; measured on the shared meshes
+ * (README), 3 edges per cell keeps the folds to a few percent of the triangles where 10 (PGP's
+ * period) folds up to a quarter of them.
+ */
+#define DEFAULT_EDGES_PER_CELL 3.0
+
+/**
+ * Default α of the alignment weight s = α / h².
+ */
+#define DEFAULT_ALIGNMENT 1.0
+
+/**
  * Status codes of the C ABI. `Ok` is 0; every failure class has its own code.
  */
 typedef enum UvfStatus {
@@ -1522,6 +1535,74 @@ typedef struct UvfPgpChartsInfo {
   size_t kind_counts[5];
 } UvfPgpChartsInfo;
 
+/**
+ * Options of `uvf_quadcover`. Initialise with `uvf_quadcover_options_default`.
+ */
+typedef struct UvfQuadCoverOptions {
+  /**
+   * `sizeof(UvfQuadCoverOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * Surface length of one grid cell (one unit of u and v); 0 (default): 3 mean edge lengths.
+   */
+  double grid_spacing;
+  /**
+   * Alignment of the default frame field to the principal curvature directions (default 1;
+   * > 0; larger follows the curvature more closely and gives more cones). Unused when a
+   * field is given.
+   */
+  double alignment;
+  /**
+   * 1 (default): round the gaps and cone positions to integers (seamless grid); 0: return the
+   * continuous solve (the gaps are real numbers).
+   */
+  uint32_t round;
+  /**
+   * Optional progress callback (may be NULL).
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfQuadCoverOptions;
+
+/**
+ * What `uvf_quadcover` reports.
+ */
+typedef struct UvfQuadCoverReport {
+  /**
+   * Cone (singular) vertices of the frame field.
+   */
+  uint32_t cone_count;
+  /**
+   * Cutting paths (each carries one integer gap).
+   */
+  uint32_t chain_count;
+  /**
+   * Triangles whose (u, v) image has non-positive signed area.
+   */
+  uint32_t flipped_count;
+  /**
+   * The grid spacing used.
+   */
+  double grid_spacing;
+  /**
+   * Largest distance of a free gap or cone coordinate to an integer before rounding.
+   */
+  double rounding_offset;
+  /**
+   * Largest distance of any gap or cone coordinate to an integer in the result.
+   */
+  double lattice_error;
+  /**
+   * Σ A |∇f − K|² / Σ A |K|² after the continuous solve, and in the result.
+   */
+  double energy_continuous;
+  double energy;
+} UvfQuadCoverReport;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -2579,6 +2660,51 @@ enum UvfStatus uvf_pgp_charts_copy_charts(const struct UvfPgpCharts *charts,
  * `charts` must come from `uvf_pgp_charts` and not have been freed.
  */
 void uvf_pgp_charts_free(struct UvfPgpCharts *charts);
+
+/**
+ * Fills `options` with defaults (automatic grid spacing, alignment 1, rounding on, no callback).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_quadcover_options_default(struct UvfQuadCoverOptions *options);
+
+/**
+ * QuadCover (Kälberer, Nieser & Polthier 2007; course notes ch. 8): a global parameterization
+ * whose integer iso-lines close up over the whole surface, guided by a frame field. Field:
+ * `field` (3 doubles per triangle, a tangent vector of each triangle, projected on its plane),
+ * or when NULL a smooth cross field aligned with the principal curvature directions. The
+ * field's matchings (§8.2.1), its cones (vertices of non-zero index), a cut through the cones,
+ * the covering's transition functions J^r z + t across the cut (eq. 8.2), the minimizer of
+ * ∫|∇f − K|² (eq. 8.6, the Hodge projection of eq. 8.7), then the gaps and cone positions
+ * rounded to integers one at a time (closest first) and the map solved again (§8.3.1).
+ *
+ * Any genus, with or without boundary, one connected component. `corner_uv_out` receives
+ * (u, v) for every corner in grid units: 6 doubles per triangle, corner k of triangle t at
+ * `6t + 2k`; across every interior edge the two triangles' (u, v) differ by a quarter turn and
+ * an integer translation. `cone_index_out` (may be NULL) receives 1 int32 per vertex: 4 × the
+ * field's index at cones (±1 for ±¼), 0 elsewhere. The map may fold near cones closer than a
+ * grid cell or two (reported in `flipped_count`). `options` and `report_out` may be NULL.
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (bad options; a field vector that is not finite
+ * or normal to its triangle — the message names it; a surface without anisotropic curvature
+ * and no field), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (several components),
+ * `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
+ * untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements (`field` NULL or 3 per triangle);
+ * `report_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_quadcover(const double *positions,
+                             size_t vertex_count,
+                             const uint32_t *triangles,
+                             size_t triangle_count,
+                             const struct UvfQuadCoverOptions *options,
+                             const double *field,
+                             double *corner_uv_out,
+                             int32_t *cone_index_out,
+                             struct UvfQuadCoverReport *report_out);
 
 #ifdef __cplusplus
 }  // extern "C"

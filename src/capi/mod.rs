@@ -17,6 +17,7 @@ pub mod methods;
 pub mod metrics;
 pub mod nonlinear;
 pub mod pgp;
+pub mod quadcover;
 
 use crate::error::{Error, Result, UvfStatus};
 use crate::TriMesh;

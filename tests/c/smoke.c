@@ -378,6 +378,47 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
         calls = 0;
     }
 
+    {
+        UvfQuadCoverOptions qc;
+        UvfQuadCoverReport qc_report;
+        static double corner_uv[6 * 2 * (N - 1) * (N - 1)], field[3 * 2 * (N - 1) * (N - 1)];
+        static int32_t cone_index[N * N];
+        size_t k;
+        uvf_quadcover_options_default(&qc);
+        check(qc.struct_size == sizeof qc && qc.grid_spacing == 0.0 && qc.round == 1, "quadcover defaults");
+        qc.grid_spacing = 0.1;
+        check(uvf_quadcover(positions, nv, triangles, nt, &qc, NULL, corner_uv, cone_index, &qc_report) == UVF_OK &&
+                  qc_report.lattice_error < 1e-9 && qc_report.grid_spacing == 0.1 && isfinite(qc_report.energy),
+              "quadcover with the curvature field, integer gaps");
+        for (k = 0; k < 6 * nt; k++)
+            check(isfinite(corner_uv[k]), "quadcover corner uv finite");
+        for (k = 0; k < nt; k++) {
+            field[3 * k] = 1.0;
+            field[3 * k + 1] = 0.0;
+            field[3 * k + 2] = 0.0;
+        }
+        check(uvf_quadcover(positions, nv, triangles, nt, &qc, field, corner_uv, NULL, &qc_report) == UVF_OK &&
+                  qc_report.cone_count == 0 && qc_report.flipped_count == 0,
+              "quadcover with a constant field: no cone, no fold");
+        field[5] = NAN;
+        corner_uv[0] = 42.0;
+        check(uvf_quadcover(positions, nv, triangles, nt, &qc, field, corner_uv, NULL, NULL) == UVF_INVALID_ARGUMENT &&
+                  corner_uv[0] == 42.0 && strstr(uvf_last_error_message(), "triangle 1") != NULL,
+              "quadcover: a NaN field vector is refused, naming its triangle, output untouched");
+        qc.grid_spacing = -1.0;
+        check(uvf_quadcover(positions, nv, triangles, nt, &qc, NULL, corner_uv, NULL, NULL) == UVF_INVALID_ARGUMENT &&
+                  corner_uv[0] == 42.0,
+              "quadcover: negative grid spacing refused");
+        uvf_quadcover_options_default(&qc);
+        calls = 0;
+        qc.progress = cancel_first;
+        qc.progress_user = &calls;
+        check(uvf_quadcover(positions, nv, triangles, nt, &qc, NULL, corner_uv, NULL, NULL) == UVF_CANCELLED &&
+                  calls == 1 && corner_uv[0] == 42.0,
+              "quadcover cancelled by its callback");
+        calls = 0;
+    }
+
     uvf_intrinsic_optimal_options_default(&optimal);
     check(optimal.energy == UVF_ENERGY_EDGE_LENGTH && isinf(optimal.lambda_min) && optimal.lambda_min < 0,
           "near-optimal defaults: edge energy, unbounded lambda");

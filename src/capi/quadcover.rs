@@ -1,0 +1,176 @@
+//! C ABI of QuadCover (`methods::quadcover`).
+
+use super::{
+    borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, UvfProgressFn,
+};
+use crate::error::Error;
+use crate::error::UvfStatus;
+use crate::methods::quadcover::{quadcover, QuadCoverOptions};
+use crate::progress::Progress;
+use std::os::raw::c_void;
+
+/// Options of `uvf_quadcover`. Initialise with `uvf_quadcover_options_default`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct UvfQuadCoverOptions {
+    /// `sizeof(UvfQuadCoverOptions)`, set by the default initialiser.
+    pub struct_size: usize,
+    /// Surface length of one grid cell (one unit of u and v); 0 (default): 3 mean edge lengths.
+    pub grid_spacing: f64,
+    /// Alignment of the default frame field to the principal curvature directions (default 1;
+    /// > 0; larger follows the curvature more closely and gives more cones). Unused when a
+    /// field is given.
+    pub alignment: f64,
+    /// 1 (default): round the gaps and cone positions to integers (seamless grid); 0: return the
+    /// continuous solve (the gaps are real numbers).
+    pub round: u32,
+    /// Optional progress callback (may be NULL).
+    pub progress: UvfProgressFn,
+    /// Passed to `progress` unchanged.
+    pub progress_user: *mut c_void,
+}
+
+impl Default for UvfQuadCoverOptions {
+    fn default() -> Self {
+        let d = QuadCoverOptions::default();
+        UvfQuadCoverOptions {
+            struct_size: std::mem::size_of::<Self>(),
+            grid_spacing: 0.0,
+            alignment: d.alignment,
+            round: 1,
+            progress: None,
+            progress_user: std::ptr::null_mut(),
+        }
+    }
+}
+
+/// What `uvf_quadcover` reports.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UvfQuadCoverReport {
+    /// Cone (singular) vertices of the frame field.
+    pub cone_count: u32,
+    /// Cutting paths (each carries one integer gap).
+    pub chain_count: u32,
+    /// Triangles whose (u, v) image has non-positive signed area.
+    pub flipped_count: u32,
+    /// The grid spacing used.
+    pub grid_spacing: f64,
+    /// Largest distance of a free gap or cone coordinate to an integer before rounding.
+    pub rounding_offset: f64,
+    /// Largest distance of any gap or cone coordinate to an integer in the result.
+    pub lattice_error: f64,
+    /// Σ A |∇f − K|² / Σ A |K|² after the continuous solve, and in the result.
+    pub energy_continuous: f64,
+    pub energy: f64,
+}
+
+/// Fills `options` with defaults (automatic grid spacing, alignment 1, rounding on, no callback).
+///
+/// # Safety
+/// `options` must be NULL or point to a writable struct.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_quadcover_options_default(options: *mut UvfQuadCoverOptions) {
+    if !options.is_null() {
+        options.write(UvfQuadCoverOptions::default());
+    }
+}
+
+/// QuadCover (Kälberer, Nieser & Polthier 2007; course notes ch. 8): a global parameterization
+/// whose integer iso-lines close up over the whole surface, guided by a frame field. Field:
+/// `field` (3 doubles per triangle, a tangent vector of each triangle, projected on its plane),
+/// or when NULL a smooth cross field aligned with the principal curvature directions. The
+/// field's matchings (§8.2.1), its cones (vertices of non-zero index), a cut through the cones,
+/// the covering's transition functions J^r z + t across the cut (eq. 8.2), the minimizer of
+/// ∫|∇f − K|² (eq. 8.6, the Hodge projection of eq. 8.7), then the gaps and cone positions
+/// rounded to integers one at a time (closest first) and the map solved again (§8.3.1).
+///
+/// Any genus, with or without boundary, one connected component. `corner_uv_out` receives
+/// (u, v) for every corner in grid units: 6 doubles per triangle, corner k of triangle t at
+/// `6t + 2k`; across every interior edge the two triangles' (u, v) differ by a quarter turn and
+/// an integer translation. `cone_index_out` (may be NULL) receives 1 int32 per vertex: 4 × the
+/// field's index at cones (±1 for ±¼), 0 elsewhere. The map may fold near cones closer than a
+/// grid cell or two (reported in `flipped_count`). `options` and `report_out` may be NULL.
+///
+/// Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (bad options; a field vector that is not finite
+/// or normal to its triangle — the message names it; a surface without anisotropic curvature
+/// and no field), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (several components),
+/// `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
+/// untouched.
+///
+/// # Safety
+/// The arrays must hold the stated number of elements (`field` NULL or 3 per triangle);
+/// `report_out` must be NULL or writable.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn uvf_quadcover(
+    positions: *const f64,
+    vertex_count: usize,
+    triangles: *const u32,
+    triangle_count: usize,
+    options: *const UvfQuadCoverOptions,
+    field: *const f64,
+    corner_uv_out: *mut f64,
+    cone_index_out: *mut i32,
+    report_out: *mut UvfQuadCoverReport,
+) -> UvfStatus {
+    guard(|| {
+        let full = std::mem::size_of::<UvfQuadCoverOptions>();
+        let o = read_options(options, UvfQuadCoverOptions::default(), full, "UvfQuadCoverOptions")?;
+        if !(o.grid_spacing.is_finite() && o.grid_spacing >= 0.0) {
+            return Err(Error::InvalidArgument(format!(
+                "grid_spacing must be finite and >= 0 (0: automatic; got {})",
+                o.grid_spacing
+            )));
+        }
+        if o.round > 1 {
+            return Err(Error::InvalidArgument(format!("round must be 0 or 1 (got {})", o.round)));
+        }
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let field = if field.is_null() {
+            None
+        } else {
+            let f = borrow_slice(field, checked_count(triangle_count, 3, "field")?, "field")?;
+            Some(f.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+        };
+        let opts = QuadCoverOptions {
+            grid_spacing: (o.grid_spacing > 0.0).then_some(o.grid_spacing),
+            field,
+            alignment: o.alignment,
+            round: o.round == 1,
+            ..QuadCoverOptions::default()
+        };
+        // Checked before the work so that a bad output pointer leaves everything untouched.
+        let uv = borrow_slice_mut(corner_uv_out, checked_count(triangle_count, 6, "corner")?, "corner_uv_out")?;
+        let cones = if cone_index_out.is_null() {
+            None
+        } else {
+            Some(borrow_slice_mut(cone_index_out, vertex_count, "cone_index_out")?)
+        };
+        let mut callback = progress_closure(o.progress, o.progress_user);
+        let result = quadcover(&mesh, &opts, &mut Progress::new(&mut callback))?;
+        for (d, c) in uv.chunks_exact_mut(6).zip(&result.uv) {
+            d.copy_from_slice(c.as_flattened());
+        }
+        if let Some(out) = cones {
+            out.fill(0);
+            for &(v, index) in &result.cones {
+                out[v as usize] = (4.0 * index).round() as i32;
+            }
+        }
+        if !report_out.is_null() {
+            // SAFETY: non-null, and the caller promises a writable UvfQuadCoverReport.
+            report_out.write(UvfQuadCoverReport {
+                cone_count: result.cones.len() as u32,
+                chain_count: result.chains as u32,
+                flipped_count: result.flipped as u32,
+                grid_spacing: result.grid_spacing,
+                rounding_offset: result.rounding_offset,
+                lattice_error: result.lattice_error,
+                energy_continuous: result.energy_continuous,
+                energy: result.energy,
+            });
+        }
+        Ok(())
+    })
+}
