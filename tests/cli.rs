@@ -361,3 +361,23 @@ fn pgp_writes_per_corner_phases_a_quad_mesh_and_its_figures() {
     assert_eq!(count_lines(&quads, "f ") as u64, report["quad_mesh"]["faces"].as_u64().unwrap());
     assert!(report["quad_mesh"]["quads"].as_u64().unwrap() * 10 >= report["quad_mesh"]["faces"].as_u64().unwrap() * 9);
 }
+
+#[test]
+fn quadcover_writes_per_corner_grid_coordinates_and_its_figures() {
+    let (out, svg) = (scratch("torus_quadcover.obj"), scratch("torus_quadcover.svg"));
+    let mesh = format!("{MESHES}/closed_g1_torus.obj");
+    let o = uvflat(&["quadcover", &mesh, "-o", out.to_str().unwrap(), "--svg", svg.to_str().unwrap(), "--json"]);
+    let report = json(&o);
+    assert_eq!(report["method"], "quadcover");
+    assert_eq!(report["triangles"], 4608);
+    // A torus of revolution: a smooth field without cones, integer gaps, no fold.
+    assert_eq!(report["cones"], 0, "{report}");
+    assert_eq!(report["flipped"], 0, "{report}");
+    assert!(report["lattice_error"].as_f64().unwrap() < 1e-9, "{report}");
+    assert_eq!(count_lines(&out, "vt "), 3 * 4608);
+    assert_eq!(count_lines(&out, "f "), 4608);
+    assert!(std::fs::read_to_string(&svg).expect("svg").contains("<svg"));
+    let bad = uvflat(&["quadcover", &mesh, "-o", out.to_str().unwrap(), "--grid-spacing=-2"]);
+    assert_eq!(bad.status.code(), Some(1), "{}", stderr(&bad));
+    assert!(stderr(&bad).contains("grid_spacing"), "{}", stderr(&bad));
+}
