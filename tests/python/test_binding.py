@@ -90,6 +90,7 @@ C_TYPES = {
     "double": ctypes.c_double,
     "uint32_t": ctypes.c_uint32,
     "size_t *": ctypes.POINTER(ctypes.c_size_t),
+    "int32_t *": ctypes.POINTER(ctypes.c_int32),
 }
 
 
@@ -117,7 +118,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 75, sorted(functions)
+    assert len(functions) == 77, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -148,6 +149,8 @@ STRUCTS = {
     "UvfAbfReport": _library.UvfAbfReport,
     "UvfCirclePatternOptions": _library.UvfCirclePatternOptions,
     "UvfCirclePatternReport": _library.UvfCirclePatternReport,
+    "UvfQuadCoverOptions": _library.UvfQuadCoverOptions,
+    "UvfQuadCoverReport": _library.UvfQuadCoverReport,
     "UvfIntrinsicToolOptions": _library.UvfIntrinsicToolOptions,
     "UvfPointConstraint": _library.UvfPointConstraint,
     "UvfNonlinearOptions": _library.UvfNonlinearOptions,
@@ -1271,6 +1274,38 @@ def test_circle_pattern_map_never_flips_ignores_rigid_motion_and_cancels():
         uvflat.circle_pattern_map(p, t, progress=lambda fraction: False)
     with pytest.raises(uvflat.InvalidArgument):
         uvflat.circle_pattern_map(p, t, max_iterations=0)
+
+
+def test_quadcover_gives_integer_seams_and_cones_and_checks_its_input():
+    p, t = load_mesh("closed_g3_triple_torus.obj")
+    corner_uv, cones, report = uvflat.quadcover(p, t)
+    assert corner_uv.shape == (len(t), 3, 2) and cones.shape == (len(p),)
+    # Hopf–Poincaré for genus 3: the cone indices (in quarters) sum to 4 (2 − 2g) = −16.
+    assert int(cones.sum()) == -16 and report.cone_count == int((cones != 0).sum())
+    assert report.lattice_error < 1e-9 and report.energy >= report.energy_continuous - 1e-12
+    # Every cone on an integer point, in every triangle around it.
+    at_cones = corner_uv[np.isin(t, np.flatnonzero(cones))]
+    assert np.abs(at_cones - np.round(at_cones)).max() < 1e-6
+    # Across every interior edge: a quarter turn and an integer translation.
+    corner_of = {}
+    for f, tri in enumerate(t):
+        for k in range(3):
+            corner_of[(int(tri[k]), int(tri[(k + 1) % 3]))] = (f, k)
+    turns = [np.array([[1, 0], [0, 1]]), np.array([[0, 1], [-1, 0]]), np.array([[-1, 0], [0, -1]]), np.array([[0, -1], [1, 0]])]
+    for (a, b), (f, k) in corner_of.items():
+        g, j = corner_of[(b, a)]
+        fa, fb = corner_uv[f, k], corner_uv[f, (k + 1) % 3]
+        gb, ga = corner_uv[g, j], corner_uv[g, (j + 1) % 3]
+        r = min(turns, key=lambda m: np.linalg.norm(m @ (fb - fa) - (gb - ga)))
+        assert np.linalg.norm(r @ (fb - fa) - (gb - ga)) < 1e-6
+        shift = ga - r @ fa
+        assert np.abs(shift - np.round(shift)).max() < 1e-6
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.quadcover(p, t, grid_spacing=-1.0)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.quadcover(p, t, field=np.ones((3, 3)))
+    with pytest.raises(uvflat.Cancelled):
+        uvflat.quadcover(p, t, progress=lambda fraction: False)
 
 
 def test_boundary_editor_matches_a_fresh_solve_and_its_basis():

@@ -773,6 +773,91 @@ def circle_pattern_map(
 
 
 @dataclasses.dataclass(frozen=True)
+class QuadCoverReport:
+    """What ``uvf_quadcover`` reports."""
+
+    #: Cone (singular) vertices of the frame field.
+    cone_count: int
+    #: Cutting paths, each with one integer gap.
+    chain_count: int
+    #: Triangles whose (u, v) image has non-positive signed area.
+    flipped_count: int
+    #: Surface length of one grid cell.
+    grid_spacing: float
+    #: Largest distance of a free gap or cone coordinate to an integer before rounding.
+    rounding_offset: float
+    #: Largest distance of any gap or cone coordinate to an integer in the result.
+    lattice_error: float
+    #: Σ A |∇f − K|² / Σ A |K|² of the continuous solve and of the result.
+    energy_continuous: float
+    energy: float
+
+
+def quadcover(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    *,
+    field: Optional[ArrayLike] = None,
+    grid_spacing: Optional[float] = None,
+    alignment: Optional[float] = None,
+    round: bool = True,
+    progress: Optional[ProgressCallback] = None,
+) -> Tuple[np.ndarray, np.ndarray, QuadCoverReport]:
+    """QuadCover (Kälberer, Nieser & Polthier 2007; course notes ch. 8; ``uvf_quadcover``): a
+    global parameterization of a mesh of any genus whose integer iso-lines close up over the
+    whole surface. Across every interior edge the two triangles' (u, v) differ by a quarter
+    turn and an integer translation, and every cone sits on an integer point. The map may fold
+    near cones closer than a grid cell or two (``report.flipped_count``).
+
+    Args:
+        field: ``(m, 3)`` tangent vectors, one per triangle (projected on its plane); default:
+            a smooth cross field aligned with the principal curvature directions.
+        grid_spacing: surface length of one grid cell (default: 3 mean edge lengths).
+        alignment: curvature alignment of the default field (default 1; > 0).
+        round: ``False`` returns the continuous solve (gaps not integer).
+
+    Returns:
+        ``(corner_uv, cone_index, report)``: ``(m, 3, 2)`` (u, v) per triangle corner in grid
+        units, ``(n,)`` int32 array of 4 × the field's index per vertex (0 off the cones), and a
+        :class:`QuadCoverReport`.
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    options = L.UvfQuadCoverOptions()
+    L.library().uvf_quadcover_options_default(byref(options))
+    if grid_spacing is not None:
+        options.grid_spacing = float(grid_spacing)
+    if alignment is not None:
+        options.alignment = float(alignment)
+    options.round = 1 if round else 0
+    f = None
+    if field is not None:
+        f = _as_points(field, 3, "field")
+        if len(f) != len(t):
+            raise InvalidArgument(f"field has {len(f)} vectors but the mesh has {len(t)} triangles")
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    corner_uv = np.empty((len(t), 3, 2), dtype=np.float64)
+    cones = np.zeros(len(p), dtype=np.int32)
+    report = L.UvfQuadCoverReport()
+    lib = L.library()
+    field_pointer = _f64p(f) if f is not None else None
+    bridge.run(
+        lambda: lib.uvf_quadcover(
+            _f64p(p),
+            len(p),
+            _u32p(t),
+            len(t),
+            byref(options),
+            field_pointer,
+            _f64p(corner_uv),
+            cones.ctypes.data_as(POINTER(ctypes.c_int32)),
+            byref(report),
+        )
+    )
+    return corner_uv, cones, _from_struct(QuadCoverReport, report)
+
+
+@dataclasses.dataclass(frozen=True)
 class IntrinsicOptimalReport:
     """What ``uvf_intrinsic_optimal_map`` reports."""
 

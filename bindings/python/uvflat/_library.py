@@ -33,6 +33,7 @@ from ctypes import (
     c_char_p,
     c_double,
     c_int,
+    c_int32,
     c_int64,
     c_size_t,
     c_uint32,
@@ -279,6 +280,34 @@ class UvfCirclePatternReport(Structure):
         ("closure_error", c_double),
         ("non_delaunay_edges", c_uint32),
         ("max_angle_change", c_double),
+    ]
+
+
+class UvfQuadCoverOptions(Structure):
+    """``struct UvfQuadCoverOptions``; fill with ``uvf_quadcover_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("grid_spacing", c_double),
+        ("alignment", c_double),
+        ("round", c_uint32),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
+    ]
+
+
+class UvfQuadCoverReport(Structure):
+    """``struct UvfQuadCoverReport``: cones, folds and energies of a QuadCover map."""
+
+    _fields_ = [
+        ("cone_count", c_uint32),
+        ("chain_count", c_uint32),
+        ("flipped_count", c_uint32),
+        ("grid_spacing", c_double),
+        ("rounding_offset", c_double),
+        ("lattice_error", c_double),
+        ("energy_continuous", c_double),
+        ("energy", c_double),
     ]
 
 
@@ -617,6 +646,21 @@ PROTOTYPES = {
     "uvf_circle_pattern_map": (
         UvfStatus,
         [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfCirclePatternOptions), _f64p, POINTER(UvfCirclePatternReport)],
+    ),
+    "uvf_quadcover_options_default": (None, [POINTER(UvfQuadCoverOptions)]),
+    "uvf_quadcover": (
+        UvfStatus,
+        [
+            _f64p,
+            c_size_t,
+            _u32p,
+            c_size_t,
+            POINTER(UvfQuadCoverOptions),
+            _f64p,
+            _f64p,
+            POINTER(c_int32),
+            POINTER(UvfQuadCoverReport),
+        ],
     ),
     "uvf_intrinsic_optimal_options_default": (None, [POINTER(UvfIntrinsicOptimalOptions)]),
     "uvf_intrinsic_optimal_map": (
