@@ -195,8 +195,8 @@ fn a_flat_mesh_with_a_constant_field_is_its_own_parameterization() {
     // uv = (x, y)/h + constant at every corner.
     let (t0, p0) = (result.uv[0][0], mesh.points()[mesh.triangles()[0][0] as usize]);
     for (t, q) in result.uv.iter().enumerate() {
-        for k in 0..3 {
-            let p = mesh.points()[mesh.triangles()[t][k] as usize];
+        for (k, &v) in mesh.triangles()[t].iter().enumerate() {
+            let p = mesh.points()[v as usize];
             let expected = [t0[0] + (p[0] - p0[0]) / h, t0[1] + (p[1] - p0[1]) / h];
             assert!((q[k][0] - expected[0]).abs() < 1e-9 && (q[k][1] - expected[1]).abs() < 1e-9, "{t} {k}");
         }

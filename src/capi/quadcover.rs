@@ -17,9 +17,9 @@ pub struct UvfQuadCoverOptions {
     pub struct_size: usize,
     /// Surface length of one grid cell (one unit of u and v); 0 (default): 3 mean edge lengths.
     pub grid_spacing: f64,
-    /// Alignment of the default frame field to the principal curvature directions (default 1;
-    /// > 0; larger follows the curvature more closely and gives more cones). Unused when a
-    /// field is given.
+    /// Alignment of the default frame field to the principal curvature directions: default 1,
+    /// must be positive; larger follows the curvature more closely and gives more cones. Unused
+    /// when a field is given.
     pub alignment: f64,
     /// 1 (default): round the gaps and cone positions to integers (seamless grid); 0: return the
     /// continuous solve (the gaps are real numbers).

@@ -72,8 +72,8 @@ impl Affine {
         let q = j_power(r);
         let mut terms: BTreeMap<u32, M2> = self.terms.iter().map(|(&k, &m)| (k, mul(q, m))).collect();
         let entry = terms.entry(z).or_insert([[0; 2]; 2]);
-        for i in 0..2 {
-            entry[i][i] += sign;
+        for (i, row) in entry.iter_mut().enumerate() {
+            row[i] += sign;
         }
         terms.retain(|_, m| !is_zero(*m));
         Affine { rot: (self.rot + r) % 4, terms }
@@ -218,15 +218,12 @@ fn chain_links(mesh: &TriMesh, cut: &Cut, chains: &[Chain]) -> Vec<Vec<Link>> {
 /// A linear constraint `Σ M_j z_j = 0` on the 2-vector unknowns.
 type Constraint = BTreeMap<u32, M2>;
 
+/// What [`walk_copies`] finds: the copies' expressions, the cones' z indices, the constraints.
+type Walk = (Vec<Affine>, Vec<Option<u32>>, Vec<Constraint>);
+
 /// Expressions of the copies of every vertex (module comment), the z index of each cone's
 /// position, and the loop-closing constraints. z indices: chain c → c, cones after the chains.
-fn walk_copies(
-    mesh: &TriMesh,
-    cut: &Cut,
-    chains: &[Chain],
-    links: &[Vec<Link>],
-    cones: &[u32],
-) -> Result<(Vec<Affine>, Vec<Option<u32>>, Vec<Constraint>)> {
+fn walk_copies(mesh: &TriMesh, cut: &Cut, chains: &[Chain], links: &[Vec<Link>], cones: &[u32]) -> Result<Walk> {
     let mut exprs: Vec<Option<Affine>> = vec![None; cut.original.len()];
     let mut cone_of: Vec<Option<u32>> = vec![None; mesh.vertex_count()];
     let mut next_z = chains.len() as u32;
@@ -327,14 +324,14 @@ fn eliminate(constraints: &[Constraint], zcount: usize, chain_scalars: usize) ->
         for i in 0..2 {
             let mut reduced: BTreeMap<u32, f64> = BTreeMap::new();
             for (&z, m) in c {
-                for j in 0..2 {
-                    if m[i][j] == 0 {
+                for (j, &x) in m[i].iter().enumerate() {
+                    if x == 0 {
                         continue;
                     }
                     let k = 2 * z + j as u32;
                     match pivots.get(&k) {
-                        Some(expr) => axpy(&mut reduced, m[i][j] as f64, expr),
-                        None => *reduced.entry(k).or_insert(0.0) += m[i][j] as f64,
+                        Some(expr) => axpy(&mut reduced, x as f64, expr),
+                        None => *reduced.entry(k).or_insert(0.0) += x as f64,
                     }
                 }
             }
@@ -434,9 +431,9 @@ fn assemble(
                 }
             }
             for (&z, m) in &e.terms {
-                for j in 0..2 {
-                    if m[i][j] != 0 {
-                        *out[i].entry(z_id(2 * z + j as u32)).or_insert(0.0) += m[i][j] as f64;
+                for (j, &x) in m[i].iter().enumerate() {
+                    if x != 0 {
+                        *out[i].entry(z_id(2 * z + j as u32)).or_insert(0.0) += x as f64;
                     }
                 }
             }

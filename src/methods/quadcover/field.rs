@@ -84,8 +84,7 @@ pub fn curvature_cross_field(
         builder.add(f, f, c64::new(a, 0.0));
         rhs[(f, 0)] = targets[f] * a;
     }
-    for h in 0..twin.len() {
-        let g = twin[h];
+    for (h, &g) in twin.iter().enumerate() {
         if g == NONE || (g as usize) < h {
             continue;
         }
