@@ -1548,9 +1548,9 @@ typedef struct UvfQuadCoverOptions {
    */
   double grid_spacing;
   /**
-   * Alignment of the default frame field to the principal curvature directions (default 1;
-   * > 0; larger follows the curvature more closely and gives more cones). Unused when a
-   * field is given.
+   * Alignment of the default frame field to the principal curvature directions: default 1,
+   * must be positive; larger follows the curvature more closely and gives more cones. Unused
+   * when a field is given.
    */
   double alignment;
   /**
@@ -1558,6 +1558,12 @@ typedef struct UvfQuadCoverOptions {
    * continuous solve (the gaps are real numbers).
    */
   uint32_t round;
+  /**
+   * 1: also put every cone on an integer point (cones become irregular vertices of the
+   * grid, as in mixed-integer quadrangulation); 0 (default): only the gaps are integers, as
+   * in the course notes (fewer folds).
+   */
+  uint32_t cones_on_grid;
   /**
    * Optional progress callback (may be NULL).
    */
@@ -1593,7 +1599,8 @@ typedef struct UvfQuadCoverReport {
    */
   double rounding_offset;
   /**
-   * Largest distance of any gap or cone coordinate to an integer in the result.
+   * Largest distance of any gap (with `cones_on_grid`, also cone coordinate) to an integer in
+   * the result.
    */
   double lattice_error;
   /**
@@ -2676,13 +2683,15 @@ void uvf_quadcover_options_default(struct UvfQuadCoverOptions *options);
  * or when NULL a smooth cross field aligned with the principal curvature directions. The
  * field's matchings (§8.2.1), its cones (vertices of non-zero index), a cut through the cones,
  * the covering's transition functions J^r z + t across the cut (eq. 8.2), the minimizer of
- * ∫|∇f − K|² (eq. 8.6, the Hodge projection of eq. 8.7), then the gaps and cone positions
- * rounded to integers one at a time (closest first) and the map solved again (§8.3.1).
+ * ∫|∇f − K|² (eq. 8.6, the Hodge projection of eq. 8.7), then the gaps (and with
+ * `cones_on_grid` the cone positions) rounded to integers one at a time (closest first), the
+ * map solved again (§8.3.1), and folded triangles stiffened.
  *
  * Any genus, with or without boundary, one connected component. `corner_uv_out` receives
  * (u, v) for every corner in grid units: 6 doubles per triangle, corner k of triangle t at
  * `6t + 2k`; across every interior edge the two triangles' (u, v) differ by a quarter turn and
- * an integer translation. `cone_index_out` (may be NULL) receives 1 int32 per vertex: 4 × the
+ * an integer translation (and, with `cones_on_grid`, every cone is on an integer point).
+ * `cone_index_out` (may be NULL) receives 1 int32 per vertex: 4 × the
  * field's index at cones (±1 for ±¼), 0 elsewhere. The map may fold near cones closer than a
  * grid cell or two (reported in `flipped_count`). `options` and `report_out` may be NULL.
  *

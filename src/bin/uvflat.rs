@@ -91,6 +91,10 @@ struct QuadCoverArgs {
     /// Keep the continuous solve: no rounding of gaps and cone positions (not seamless).
     #[arg(long = "no-round")]
     no_round: bool,
+    /// Also put every cone on an integer point (irregular vertices of the grid); default: only
+    /// the gaps are integers, as in the course notes (fewer folds).
+    #[arg(long = "cones-on-grid")]
+    cones_on_grid: bool,
     /// Also write an SVG picture of the (u, v) triangles.
     #[arg(long)]
     svg: Option<PathBuf>,
@@ -716,6 +720,7 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
         grid_spacing: args.grid_spacing,
         alignment: args.alignment,
         round: !args.no_round,
+        cones_on_grid: args.cones_on_grid,
         ..QuadCoverOptions::default()
     };
     let start = Instant::now();

@@ -24,6 +24,10 @@ pub struct UvfQuadCoverOptions {
     /// 1 (default): round the gaps and cone positions to integers (seamless grid); 0: return the
     /// continuous solve (the gaps are real numbers).
     pub round: u32,
+    /// 1: also put every cone on an integer point (cones become irregular vertices of the
+    /// grid, as in mixed-integer quadrangulation); 0 (default): only the gaps are integers, as
+    /// in the course notes (fewer folds).
+    pub cones_on_grid: u32,
     /// Optional progress callback (may be NULL).
     pub progress: UvfProgressFn,
     /// Passed to `progress` unchanged.
@@ -38,6 +42,7 @@ impl Default for UvfQuadCoverOptions {
             grid_spacing: 0.0,
             alignment: d.alignment,
             round: 1,
+            cones_on_grid: 0,
             progress: None,
             progress_user: std::ptr::null_mut(),
         }
@@ -58,7 +63,8 @@ pub struct UvfQuadCoverReport {
     pub grid_spacing: f64,
     /// Largest distance of a free gap or cone coordinate to an integer before rounding.
     pub rounding_offset: f64,
-    /// Largest distance of any gap or cone coordinate to an integer in the result.
+    /// Largest distance of any gap (with `cones_on_grid`, also cone coordinate) to an integer in
+    /// the result.
     pub lattice_error: f64,
     /// Σ A |∇f − K|² / Σ A |K|² after the continuous solve, and in the result.
     pub energy_continuous: f64,
@@ -82,13 +88,15 @@ pub unsafe extern "C" fn uvf_quadcover_options_default(options: *mut UvfQuadCove
 /// or when NULL a smooth cross field aligned with the principal curvature directions. The
 /// field's matchings (§8.2.1), its cones (vertices of non-zero index), a cut through the cones,
 /// the covering's transition functions J^r z + t across the cut (eq. 8.2), the minimizer of
-/// ∫|∇f − K|² (eq. 8.6, the Hodge projection of eq. 8.7), then the gaps and cone positions
-/// rounded to integers one at a time (closest first) and the map solved again (§8.3.1).
+/// ∫|∇f − K|² (eq. 8.6, the Hodge projection of eq. 8.7), then the gaps (and with
+/// `cones_on_grid` the cone positions) rounded to integers one at a time (closest first), the
+/// map solved again (§8.3.1), and folded triangles stiffened.
 ///
 /// Any genus, with or without boundary, one connected component. `corner_uv_out` receives
 /// (u, v) for every corner in grid units: 6 doubles per triangle, corner k of triangle t at
 /// `6t + 2k`; across every interior edge the two triangles' (u, v) differ by a quarter turn and
-/// an integer translation. `cone_index_out` (may be NULL) receives 1 int32 per vertex: 4 × the
+/// an integer translation (and, with `cones_on_grid`, every cone is on an integer point).
+/// `cone_index_out` (may be NULL) receives 1 int32 per vertex: 4 × the
 /// field's index at cones (±1 for ±¼), 0 elsewhere. The map may fold near cones closer than a
 /// grid cell or two (reported in `flipped_count`). `options` and `report_out` may be NULL.
 ///
@@ -123,8 +131,11 @@ pub unsafe extern "C" fn uvf_quadcover(
                 o.grid_spacing
             )));
         }
-        if o.round > 1 {
-            return Err(Error::InvalidArgument(format!("round must be 0 or 1 (got {})", o.round)));
+        if o.round > 1 || o.cones_on_grid > 1 {
+            return Err(Error::InvalidArgument(format!(
+                "round and cones_on_grid must be 0 or 1 (got {} and {})",
+                o.round, o.cones_on_grid
+            )));
         }
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         let field = if field.is_null() {
@@ -138,6 +149,7 @@ pub unsafe extern "C" fn uvf_quadcover(
             field,
             alignment: o.alignment,
             round: o.round == 1,
+            cones_on_grid: o.cones_on_grid == 1,
             ..QuadCoverOptions::default()
         };
         // Checked before the work so that a bad output pointer leaves everything untouched.

@@ -1278,7 +1278,7 @@ def test_circle_pattern_map_never_flips_ignores_rigid_motion_and_cancels():
 
 def test_quadcover_gives_integer_seams_and_cones_and_checks_its_input():
     p, t = load_mesh("closed_g3_triple_torus.obj")
-    corner_uv, cones, report = uvflat.quadcover(p, t)
+    corner_uv, cones, report = uvflat.quadcover(p, t, cones_on_grid=True)
     assert corner_uv.shape == (len(t), 3, 2) and cones.shape == (len(p),)
     # Hopf–Poincaré for genus 3: the cone indices (in quarters) sum to 4 (2 − 2g) = −16.
     assert int(cones.sum()) == -16 and report.cone_count == int((cones != 0).sum())
@@ -1300,6 +1300,9 @@ def test_quadcover_gives_integer_seams_and_cones_and_checks_its_input():
         assert np.linalg.norm(r @ (fb - fa) - (gb - ga)) < 1e-6
         shift = ga - r @ fa
         assert np.abs(shift - np.round(shift)).max() < 1e-6
+    # The course notes' variant (the default): integer gaps, cones anywhere, fewer folds.
+    _, _, gaps_only = uvflat.quadcover(p, t)
+    assert gaps_only.lattice_error < 1e-9 and gaps_only.cone_count == report.cone_count
     with pytest.raises(uvflat.InvalidArgument):
         uvflat.quadcover(p, t, grid_spacing=-1.0)
     with pytest.raises(uvflat.InvalidArgument):

@@ -801,12 +801,15 @@ def quadcover(
     grid_spacing: Optional[float] = None,
     alignment: Optional[float] = None,
     round: bool = True,
+    cones_on_grid: bool = False,
     progress: Optional[ProgressCallback] = None,
 ) -> Tuple[np.ndarray, np.ndarray, QuadCoverReport]:
     """QuadCover (Kälberer, Nieser & Polthier 2007; course notes ch. 8; ``uvf_quadcover``): a
     global parameterization of a mesh of any genus whose integer iso-lines close up over the
     whole surface. Across every interior edge the two triangles' (u, v) differ by a quarter
-    turn and an integer translation, and every cone sits on an integer point. The map may fold
+    turn and an integer translation (with ``cones_on_grid``, every cone also sits on an integer
+    point, as in mixed-integer quadrangulation; otherwise only the gaps are rounded, as in the
+    course notes, which folds fewer triangles). The map may fold
     near cones closer than a grid cell or two (``report.flipped_count``).
 
     Args:
@@ -829,6 +832,7 @@ def quadcover(
     if alignment is not None:
         options.alignment = float(alignment)
     options.round = 1 if round else 0
+    options.cones_on_grid = 1 if cones_on_grid else 0
     f = None
     if field is not None:
         f = _as_points(field, 3, "field")

@@ -291,6 +291,7 @@ class UvfQuadCoverOptions(Structure):
         ("grid_spacing", c_double),
         ("alignment", c_double),
         ("round", c_uint32),
+        ("cones_on_grid", c_uint32),
         ("progress", UvfProgressFn),
         ("progress_user", c_void_p),
     ]

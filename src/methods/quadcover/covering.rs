@@ -109,6 +109,10 @@ pub struct Covering {
     pub lattice: Vec<Vec<(u32, f64)>>,
     /// Number of free lattice scalars.
     pub free_lattice: usize,
+    /// Which lattice scalars must be integers (gaps always; cone coordinates when on the grid).
+    pub integer: Vec<bool>,
+    /// Which free lattice scalars are rounded.
+    pub free_integer: Vec<bool>,
     /// The cones: the field's singular vertices, plus any vertex whose rotations around do not
     /// cancel.
     pub cones: Vec<u32>,
@@ -125,14 +129,32 @@ impl Covering {
 }
 
 /// Builds the covering (module comment) from the cut and the combed matchings.
-pub fn build_covering(mesh: &TriMesh, cut: &Cut, combed: &[u8], cones: &[u32]) -> Result<Covering> {
+pub fn build_covering(
+    mesh: &TriMesh,
+    cut: &Cut,
+    combed: &[u8],
+    cones: &[u32],
+    cones_on_grid: bool,
+) -> Result<Covering> {
     let chains = cut_chains(mesh, cut, combed, cones)?;
     let links = chain_links(mesh, cut, &chains);
     let (exprs, cone_of, constraints) = walk_copies(mesh, cut, &chains, &links, cones)?;
     let zcount = 2 * (chains.len() + cone_of.iter().filter(|c| c.is_some()).count());
     let chain_scalars = 2 * chains.len();
-    let (pivots, free, fractional_pivots) = eliminate(&constraints, zcount, chain_scalars);
-    assemble(mesh, cut, &chains, exprs, &cone_of, pivots, free, fractional_pivots)
+    let (pivots, free, fractional_pivots) = eliminate(&constraints, zcount, chain_scalars, cones_on_grid);
+    let mut covering = assemble(mesh, cut, &chains, exprs, &cone_of, pivots, free, fractional_pivots)?;
+    // Integer lattice scalars: the gaps, and the cone coordinates when they sit on the grid.
+    covering.integer = (0..zcount).map(|k| k < chain_scalars || cones_on_grid).collect();
+    let mut free_integer = vec![false; covering.free_lattice];
+    for (k, row) in covering.lattice.iter().enumerate() {
+        if let [(j, x)] = row[..] {
+            if x == 1.0 && covering.integer[k] {
+                free_integer[j as usize] = true;
+            }
+        }
+    }
+    covering.free_integer = free_integer;
+    Ok(covering)
 }
 
 /// Splits the cut graph into chains (module comment), oriented, with their rotation.
@@ -316,7 +338,12 @@ fn axpy(acc: &mut BTreeMap<u32, f64>, factor: f64, row: &Row) {
 /// pivot over free scalars, the free scalars, and the number of pivots that were not ±1. The
 /// pivots' expressions are kept over free scalars only; `users[k]` lists the pivots whose
 /// expression holds the free scalar k, so a new pivot is substituted where it occurs only.
-fn eliminate(constraints: &[Constraint], zcount: usize, chain_scalars: usize) -> (HashMap<u32, Row>, Vec<u32>, usize) {
+fn eliminate(
+    constraints: &[Constraint],
+    zcount: usize,
+    chain_scalars: usize,
+    cones_on_grid: bool,
+) -> (HashMap<u32, Row>, Vec<u32>, usize) {
     let mut pivots: HashMap<u32, Row> = HashMap::new();
     let mut users: HashMap<u32, Vec<u32>> = HashMap::new();
     let mut fractional = 0;
@@ -336,9 +363,9 @@ fn eliminate(constraints: &[Constraint], zcount: usize, chain_scalars: usize) ->
                 }
             }
             reduced.retain(|_, x| x.abs() > 1e-9);
-            let Some(p) = choose_pivot(&reduced, chain_scalars) else { continue };
+            let Some(p) = choose_pivot(&reduced, chain_scalars, cones_on_grid) else { continue };
             let a = reduced[&p];
-            if (a.abs() - 1.0).abs() > 1e-9 {
+            if (a.abs() - 1.0).abs() > 1e-9 && ((p as usize) < chain_scalars || cones_on_grid) {
                 fractional += 1;
             }
             let expr: Row = reduced.iter().filter(|&(&k, _)| k != p).map(|(&k, &x)| (k, -x / a)).collect();
@@ -366,13 +393,17 @@ fn eliminate(constraints: &[Constraint], zcount: usize, chain_scalars: usize) ->
 
 /// Pivot of a reduced row: a translation with coefficient ±1, else a cone coordinate with ±1,
 /// else the largest coefficient.
-fn choose_pivot(row: &BTreeMap<u32, f64>, chain_scalars: usize) -> Option<u32> {
+/// With `cones_on_grid` false, a cone coordinate (largest coefficient) comes first: the cones
+/// are then functions of the gaps and only the gaps need be integers.
+fn choose_pivot(row: &BTreeMap<u32, f64>, chain_scalars: usize, cones_on_grid: bool) -> Option<u32> {
     let unit = |&(&k, &x): &(&u32, &f64)| (x.abs() - 1.0).abs() < 1e-9 && (k as usize) < chain_scalars;
     let unit_cone = |&(_, &x): &(&u32, &f64)| (x.abs() - 1.0).abs() < 1e-9;
-    row.iter()
-        .find(unit)
+    let largest = |a: &(&u32, &f64), b: &(&u32, &f64)| a.1.abs().total_cmp(&b.1.abs());
+    let cone =
+        if cones_on_grid { None } else { row.iter().filter(|&(&k, _)| k as usize >= chain_scalars).max_by(largest) };
+    cone.or_else(|| row.iter().find(unit))
         .or_else(|| row.iter().find(unit_cone))
-        .or_else(|| row.iter().max_by(|a, b| a.1.abs().total_cmp(&b.1.abs())))
+        .or_else(|| row.iter().max_by(largest))
         .map(|(&k, _)| k)
 }
 
@@ -468,6 +499,8 @@ fn assemble(
         rows,
         lattice,
         free_lattice: nw as usize,
+        integer: Vec::new(),
+        free_integer: Vec::new(),
         cones,
         chains: chains.to_vec(),
         fractional_pivots,

@@ -185,11 +185,16 @@ pub fn integrate(
         (0..m).map(|k| z[(k, 0)]).collect()
     };
     let continuous = real_unknowns(&solver, &mut blocks, &lattice_of(&w_continuous))?;
-    let offset = w_continuous.iter().map(|z| (z - z.round()).abs()).fold(0.0, f64::max);
+    let offset = w_continuous
+        .iter()
+        .zip(&covering.free_integer)
+        .filter(|(_, &integer)| integer)
+        .map(|(z, _)| (z - z.round()).abs())
+        .fold(0.0, f64::max);
     if !round || w_continuous.is_empty() {
         return Ok((continuous.clone(), continuous, offset));
     }
-    let w = greedy_rounding(w_continuous, p)?;
+    let w = greedy_rounding(w_continuous, p, &covering.free_integer)?;
     let z = lattice_of(&w);
     let rounded = real_unknowns(&solver, &mut blocks, &z)?;
     let stiffened = stiffen(mesh, cut, frames, scale, covering, &z, rounded)?;
@@ -280,17 +285,27 @@ const BATCH_ABOVE: usize = 256;
 /// Greedy rounding (see [`integrate`]). Above [`BATCH_ABOVE`] free unknowns, the closest
 /// sixteenth of them is rounded together (block conditioning: z_r += P_rk P_kk⁻¹ (a − z_k),
 /// P_rr ← P_rr − P_rk P_kk⁻¹ P_kr), so that the whole costs O(m³) once rather than per unknown.
-fn greedy_rounding(mut z: Vec<f64>, mut p: Mat<f64>) -> Result<Vec<f64>> {
+fn greedy_rounding(mut z: Vec<f64>, mut p: Mat<f64>, integer: &[bool]) -> Result<Vec<f64>> {
     // p is S⁻¹ restricted to the still free unknowns `free` (in that order); unknowns no
-    // triangle sees are 0 already.
+    // triangle sees are 0 already. Real (non-integer) unknowns are only re-optimized.
     let mut free: Vec<usize> = (0..z.len()).filter(|&i| p[(i, i)] > 0.0).collect();
     p = Mat::from_fn(free.len(), free.len(), |i, j| p[(free[i], free[j])]);
     let distance = |x: f64| (x - x.round()).abs();
-    while !free.is_empty() {
+    loop {
         let f = free.len();
-        let batch = if f > BATCH_ABOVE { f / 16 } else { 1 };
+        let candidates = (0..f).filter(|&a| integer[free[a]]).count();
+        if candidates == 0 {
+            break;
+        }
+        let batch = if candidates > BATCH_ABOVE { candidates / 16 } else { 1 };
         let mut order: Vec<usize> = (0..f).collect();
-        order.sort_by(|&a, &b| distance(z[free[a]]).total_cmp(&distance(z[free[b]])).then(a.cmp(&b)));
+        // Integer unknowns first, closest to their integer first.
+        order.sort_by(|&a, &b| {
+            (!integer[free[a]], distance(z[free[a]]))
+                .partial_cmp(&(!integer[free[b]], distance(z[free[b]])))
+                .unwrap_or(std::cmp::Ordering::Equal)
+                .then(a.cmp(&b))
+        });
         let (chosen, rest) = order.split_at(batch);
         let delta = Mat::<f64>::from_fn(batch, 1, |i, _| z[free[chosen[i]]].round() - z[free[chosen[i]]]);
         let pkk = Mat::<f64>::from_fn(batch, batch, |i, j| p[(chosen[i], chosen[j])]);

@@ -56,9 +56,13 @@ pub struct QuadCoverOptions {
     /// Alignment α of the default field to the curvature directions ([`field`]; larger: more
     /// aligned, more cones).
     pub alignment: f64,
-    /// Round the gaps and cone positions to integers (§8.3.1). `false` returns the first,
-    /// continuous solve (seamless up to rotation only).
+    /// Round the gaps (and with `cones_on_grid` the cone positions) to integers (§8.3.1).
+    /// `false` returns the first, continuous solve (seamless up to rotation only).
     pub round: bool,
+    /// Also require every cone to sit on an integer point (as mixed-integer quadrangulation
+    /// does, so that cones become irregular vertices of a quad mesh). `false` (the course
+    /// notes' QuadCover): only the gaps are integers; a cone may sit at a half-integer point.
+    pub cones_on_grid: bool,
 }
 
 impl Default for QuadCoverOptions {
@@ -69,6 +73,7 @@ impl Default for QuadCoverOptions {
             curvature: CurvatureOptions::default(),
             alignment: field::DEFAULT_ALIGNMENT,
             round: true,
+            cones_on_grid: false,
         }
     }
 }
@@ -92,8 +97,8 @@ pub struct QuadCoverResult {
     pub flipped: usize,
     /// Largest distance of a free gap or cone coordinate to its integer before rounding.
     pub rounding_offset: f64,
-    /// Largest distance of any gap or cone coordinate to an integer in the result (0 up to
-    /// round-off when rounding is on, unless `fractional_pivots` > 0).
+    /// Largest distance of any gap (and, with `cones_on_grid`, cone coordinate) to an integer
+    /// in the result (0 up to round-off when rounding is on, unless `fractional_pivots` > 0).
     pub lattice_error: f64,
     /// Constraint pivots that were not ±1 (see [`covering`]).
     pub fractional_pivots: usize,
@@ -122,7 +127,7 @@ pub fn quadcover(mesh: &TriMesh, options: &QuadCoverOptions, progress: &mut Prog
     let is_cut = cut_halfedges(mesh, &cut.edges);
     let raw = matching::matchings(mesh, &directions);
     let (frames, combed) = matching::comb(mesh, &directions, &raw, &is_cut)?;
-    let cover = covering::build_covering(mesh, &cut, &combed, &cone_list)?;
+    let cover = covering::build_covering(mesh, &cut, &combed, &cone_list, options.cones_on_grid)?;
     progress.report(0.5)?;
     let scale = 1.0 / spacing;
     let (continuous, values, rounding_offset) =
@@ -131,7 +136,12 @@ pub fn quadcover(mesh: &TriMesh, options: &QuadCoverOptions, progress: &mut Prog
         integration::relative_energy(mesh, &frames, scale, &integration::corner_uv(&cut, &cover, &continuous));
     progress.report(0.95)?;
     let uv = integration::corner_uv(&cut, &cover, &values);
-    let lattice_error = values[cover.vertex_unknowns..].iter().map(|x| (x - x.round()).abs()).fold(0.0, f64::max);
+    let lattice_error = values[cover.vertex_unknowns..]
+        .iter()
+        .zip(&cover.integer)
+        .filter(|(_, &integer)| integer)
+        .map(|(x, _)| (x - x.round()).abs())
+        .fold(0.0, f64::max);
     let flipped = uv.iter().filter(|q| signed_uv_area(**q) <= 0.0).count();
     let energy = integration::relative_energy(mesh, &frames, scale, &uv);
     progress.report(1.0)?;
