@@ -197,7 +197,9 @@ pub fn integrate(
     let w = greedy_rounding(w_continuous, p, &covering.free_integer)?;
     let z = lattice_of(&w);
     let rounded = real_unknowns(&solver, &mut blocks, &z)?;
-    let stiffened = stiffen(mesh, cut, frames, scale, covering, &z, rounded)?;
+    progress.report(span.0 + (span.1 - span.0) * 0.8)?;
+    let stiffened =
+        stiffen(mesh, cut, frames, scale, covering, &z, rounded, progress, (span.0 + (span.1 - span.0) * 0.8, span.1))?;
     Ok((continuous, stiffened, offset))
 }
 
@@ -208,6 +210,7 @@ const STIFFENING_ROUNDS: usize = 8;
 /// unknowns kept, the weight of every folded triangle is multiplied by 4 and the real unknowns
 /// solved again, for up to [`STIFFENING_ROUNDS`] rounds; the result with the fewest folds is
 /// kept (the seams stay exact: only vertex positions move).
+#[allow(clippy::too_many_arguments)]
 fn stiffen(
     mesh: &TriMesh,
     cut: &Cut,
@@ -216,6 +219,8 @@ fn stiffen(
     covering: &Covering,
     z: &[f64],
     values: Vec<f64>,
+    progress: &mut Progress,
+    span: (f64, f64),
 ) -> Result<Vec<f64>> {
     let folded = |values: &[f64]| -> Vec<usize> {
         corner_uv(cut, covering, values)
@@ -228,10 +233,11 @@ fn stiffen(
     let mut flips = folded(&values);
     let (mut best, mut best_count) = (values, flips.len());
     let mut weights = vec![1.0; mesh.triangle_count()];
-    for _ in 0..STIFFENING_ROUNDS {
+    for round in 0..STIFFENING_ROUNDS {
         if flips.is_empty() {
             break;
         }
+        progress.report(span.0 + (span.1 - span.0) * round as f64 / STIFFENING_ROUNDS as f64)?;
         for &t in &flips {
             weights[t] *= 4.0;
         }
