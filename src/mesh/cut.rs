@@ -122,27 +122,7 @@ impl Edges {
 
 /// Cuts a connected manifold mesh into a topological disk (see the module docs).
 pub fn cut_to_disk(mesh: &TriMesh, cost: &EdgeCost) -> Result<Cut> {
-    let topology = mesh.topology();
-    if topology.components != 1 {
-        return Err(Error::MultipleComponents { components: topology.components });
-    }
-    let edges = Edges::new(mesh);
-    let costs = edge_costs(mesh, &edges, cost)?;
-    let mut cut = if topology.boundary_loops == 0 && topology.genus == 0 {
-        sphere_cut_path(mesh, &edges, &costs)
-    } else {
-        cut_graph(mesh, &edges, &costs)
-    };
-    if cut.iter().all(|&c| !c) && topology.boundary_loops == 0 {
-        return Err(Error::Internal("cut graph of a closed mesh is empty".into()));
-    }
-    // Boundary edges are already open; `cut` marks interior edges only.
-    for (e, &h) in edges.halfedge.iter().enumerate() {
-        if mesh.connectivity().is_boundary(h) {
-            cut[e] = false;
-        }
-    }
-    build_cut_mesh(mesh, &edges, &cut)
+    cut_to_disk_through(mesh, cost, &[])
 }
 
 /// Cuts a connected manifold mesh into a topological disk whose boundary passes through every
@@ -172,10 +152,17 @@ pub fn cut_to_disk_through(mesh: &TriMesh, cost: &EdgeCost, required: &[u32]) ->
         (true, _) => vec![false; edges.len()],
         (false, _) => cut_graph(mesh, &edges, &costs),
     };
-    join_required(mesh, &edges, &costs, &mut cut, &keep);
-    if !(sphere && distinct < 2) {
+    if distinct > 0 {
+        join_required(mesh, &edges, &costs, &mut cut, &keep);
+    }
+    // The cut graph comes pruned; joined paths may leave branches that lead to no required vertex.
+    if distinct > 0 && !(sphere && distinct < 2) {
         prune_dangling_keeping(mesh, &edges, &mut cut, &keep);
     }
+    if cut.iter().all(|&c| !c) && topology.boundary_loops == 0 {
+        return Err(Error::Internal("cut graph of a closed mesh is empty".into()));
+    }
+    // Boundary edges are already open; `cut` marks interior edges only.
     for (e, &h) in edges.halfedge.iter().enumerate() {
         if mesh.connectivity().is_boundary(h) {
             cut[e] = false;

@@ -25,7 +25,6 @@
 //! were needed — rounding the free ones to integers then makes every transition a grid
 //! automorphism (§8.3.1 "the grid lines are globally continuous iff all d_i ∈ Z").
 
-use super::matching::layer_shifts;
 use crate::error::{Error, Result};
 use crate::mesh::cut::Cut;
 use crate::mesh::NONE;
@@ -116,7 +115,8 @@ pub struct Covering {
     /// The cones: the field's singular vertices, plus any vertex whose rotations around do not
     /// cancel.
     pub cones: Vec<u32>,
-    pub chains: Vec<Chain>,
+    /// Number of chains (cutting paths).
+    pub chain_count: usize,
     /// Pivots that were not ±1 (their translations are rational, not integer, combinations).
     pub fractional_pivots: usize,
 }
@@ -428,17 +428,16 @@ fn assemble(
         .flatten()
         .find(|&&z| !pivots.contains_key(&(2 * z)) && !pivots.contains_key(&(2 * z + 1)))
         .copied();
+    let gauge_vertex = match gauge_cone {
+        Some(_) => None,
+        None => cut.original.iter().map(|&v| v as usize).find(|&v| cone_of[v].is_none()),
+    };
+    // Regular vertices other than the gauge vertex (fixed at the origin): 2 unknowns each.
     let mut vertex_id = vec![NONE; mesh.vertex_count()];
     let mut nv = 0u32;
-    let mut gauge_vertex_done = gauge_cone.is_some();
     for &v in &cut.original {
         let v = v as usize;
-        if cone_of[v].is_some() || vertex_id[v] != NONE {
-            continue;
-        }
-        if !gauge_vertex_done {
-            gauge_vertex_done = true;
-            vertex_id[v] = NONE - 1; // fixed at the origin
+        if cone_of[v].is_some() || vertex_id[v] != NONE || Some(v) == gauge_vertex {
             continue;
         }
         vertex_id[v] = nv;
@@ -448,10 +447,10 @@ fn assemble(
     let mut rows = Vec::with_capacity(exprs.len());
     for (c, e) in exprs.iter().enumerate() {
         let v = cut.original[c] as usize;
-        let rep: [Row; 2] = match (cone_of[v], vertex_id[v]) {
-            (Some(z), _) => [vec![(z_id(2 * z), 1.0)], vec![(z_id(2 * z + 1), 1.0)]],
-            (None, id) if id == NONE - 1 => [Vec::new(), Vec::new()],
-            (None, id) => [vec![(id, 1.0)], vec![(id + 1, 1.0)]],
+        let rep: [Row; 2] = match cone_of[v] {
+            Some(z) => [vec![(z_id(2 * z), 1.0)], vec![(z_id(2 * z + 1), 1.0)]],
+            None if Some(v) == gauge_vertex => [Vec::new(), Vec::new()],
+            None => [vec![(vertex_id[v], 1.0)], vec![(vertex_id[v] + 1, 1.0)]],
         };
         let q = j_power(e.rot);
         let mut out: [BTreeMap<u32, f64>; 2] = Default::default();
@@ -502,12 +501,7 @@ fn assemble(
         integer: Vec::new(),
         free_integer: Vec::new(),
         cones,
-        chains: chains.to_vec(),
+        chain_count: chains.len(),
         fractional_pivots,
     })
-}
-
-/// Layer shifts of the combed matchings as a check: non-zero only at cones (used by tests).
-pub fn branch_vertices(mesh: &TriMesh, matching: &[u8]) -> Vec<u32> {
-    layer_shifts(mesh, matching).iter().enumerate().filter(|(_, &s)| s != 0).map(|(v, _)| v as u32).collect()
 }

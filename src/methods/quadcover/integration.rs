@@ -69,12 +69,14 @@ fn assemble(
     scale: f64,
     covering: &Covering,
     weights: Option<&[f64]>,
+    lattice_block: bool,
 ) -> Blocks {
     let (m, nv) = (covering.lattice_len(), covering.vertex_unknowns);
+    let mz = if lattice_block { m } else { 0 };
     let mut b = Blocks {
         hvv: TripletBuilder::with_capacity(nv, 20 * mesh.triangle_count()),
         hvz: vec![Vec::new(); m],
-        hzz: Mat::zeros(m, m),
+        hzz: Mat::zeros(mz, mz),
         bv: Mat::zeros(nv, 1),
         bz: vec![0.0; m],
         coords: vec![[0.0; 3]; nv],
@@ -107,7 +109,7 @@ fn assemble(
                             match (a < nv, bb < nv) {
                                 (true, true) if bb <= a => b.hvv.add(a, bb, value),
                                 (false, true) => b.hvz[a - nv].push((bb as u32, value)),
-                                (false, false) => b.hzz[(a - nv, bb - nv)] += value,
+                                (false, false) if lattice_block => b.hzz[(a - nv, bb - nv)] += value,
                                 _ => {}
                             }
                         }
@@ -142,14 +144,14 @@ pub fn integrate(
     progress: &mut Progress,
     span: (f64, f64),
 ) -> Result<(Vec<f64>, Vec<f64>, f64)> {
-    let mut blocks = assemble(mesh, cut, frames, scale, covering, None);
+    let mut blocks = assemble(mesh, cut, frames, scale, covering, None, true);
     let (m, nv) = (blocks.hzz.nrows(), blocks.bv.nrows());
     let solver = CholeskySolver::new(&blocks.hvv.build()?, Some(&blocks.coords))
         .map_err(|e| Error::Numerical(format!("QuadCover: the integration system could not be factored: {e}")))?;
     let mut hinv_b = blocks.bv.clone();
     solver.solve_in_place(&mut hinv_b)?;
     // S and c = b_z − H_zv H_vv⁻¹ b_v over all lattice scalars, in blocks of columns.
-    let mut s = blocks.hzz.clone();
+    let mut s = std::mem::replace(&mut blocks.hzz, Mat::zeros(0, 0));
     let c = Mat::<f64>::from_fn(m, 1, |i, _| blocks.bz[i] - sparse_dot(&blocks.hvz[i], &hinv_b, 0));
     const BLOCK: usize = 32;
     for k0 in (0..m).step_by(BLOCK) {
@@ -169,8 +171,7 @@ pub fn integrate(
         progress.report(span.0 + (span.1 - span.0) * 0.7 * (k0 + w) as f64 / m as f64)?;
     }
     // Onto the free lattice scalars: z = D w.
-    let d = Mat::<f64>::from_fn(m, covering.free_lattice, |_, _| 0.0);
-    let mut d = d;
+    let mut d = Mat::<f64>::zeros(m, covering.free_lattice);
     for (k, row) in covering.lattice.iter().enumerate() {
         for &(j, x) in row {
             d[(k, j as usize)] += x;
@@ -184,7 +185,7 @@ pub fn integrate(
         let z = &d * &wm;
         (0..m).map(|k| z[(k, 0)]).collect()
     };
-    let continuous = real_unknowns(&solver, &mut blocks, &lattice_of(&w_continuous))?;
+    let continuous = real_unknowns(&solver, &blocks, &lattice_of(&w_continuous))?;
     let offset = w_continuous
         .iter()
         .zip(&covering.free_integer)
@@ -196,7 +197,7 @@ pub fn integrate(
     }
     let w = greedy_rounding(w_continuous, p, &covering.free_integer)?;
     let z = lattice_of(&w);
-    let rounded = real_unknowns(&solver, &mut blocks, &z)?;
+    let rounded = real_unknowns(&solver, &blocks, &z)?;
     progress.report(span.0 + (span.1 - span.0) * 0.8)?;
     let stiffened =
         stiffen(mesh, cut, frames, scale, covering, &z, rounded, progress, (span.0 + (span.1 - span.0) * 0.8, span.1))?;
@@ -241,10 +242,11 @@ fn stiffen(
         for &t in &flips {
             weights[t] *= 4.0;
         }
-        let mut blocks = assemble(mesh, cut, frames, scale, covering, Some(&weights));
+        // Only H_vv, b_v and H_vz are needed with the lattice fixed.
+        let blocks = assemble(mesh, cut, frames, scale, covering, Some(&weights), false);
         let solver = CholeskySolver::new(&blocks.hvv.build()?, Some(&blocks.coords))
             .map_err(|e| Error::Numerical(format!("QuadCover: the stiffened system could not be factored: {e}")))?;
-        let values = real_unknowns(&solver, &mut blocks, z)?;
+        let values = real_unknowns(&solver, &blocks, z)?;
         flips = folded(&values);
         if flips.len() < best_count {
             best_count = flips.len();
@@ -335,7 +337,7 @@ fn greedy_rounding(mut z: Vec<f64>, mut p: Mat<f64>, integer: &[bool]) -> Result
 }
 
 /// All unknowns for the integer ones `z`: the real ones solve H_vv y = b_v − H_vz z.
-fn real_unknowns(solver: &CholeskySolver<f64>, blocks: &mut Blocks, z: &[f64]) -> Result<Vec<f64>> {
+fn real_unknowns(solver: &CholeskySolver<f64>, blocks: &Blocks, z: &[f64]) -> Result<Vec<f64>> {
     let mut rhs = blocks.bv.clone();
     for (k, column) in blocks.hvz.iter().enumerate() {
         for &(r, value) in column {

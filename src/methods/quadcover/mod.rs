@@ -148,7 +148,7 @@ pub fn quadcover(mesh: &TriMesh, options: &QuadCoverOptions, progress: &mut Prog
     Ok(QuadCoverResult {
         cones: cover.cones.iter().map(|&v| (v, indices[v as usize])).collect(),
         cut_edges: cut.edges.clone(),
-        chains: cover.chains.len(),
+        chains: cover.chain_count,
         grid_spacing: spacing,
         frames,
         flipped,
