@@ -478,9 +478,9 @@ typedef struct UvfPgp UvfPgp;
 typedef struct UvfPgpCharts UvfPgpCharts;
 
 /**
- * A quad-dominant remesh of a PGP result (Ray et al. 2006, §5): created by
- * `uvf_pgp_quad_mesh`, read with `uvf_quad_mesh_info` and `uvf_quad_mesh_copy`, released with
- * `uvf_quad_mesh_free`.
+ * A quad-dominant remesh of a PGP result (Ray et al. 2006, §5) or of the integer grid lines of
+ * a QuadCover map: created by `uvf_pgp_quad_mesh` or `uvf_quadcover_quad_mesh`, read with
+ * `uvf_quad_mesh_info` and `uvf_quad_mesh_copy`, released with `uvf_quad_mesh_free`.
  */
 typedef struct UvfQuadMesh UvfQuadMesh;
 
@@ -2714,6 +2714,33 @@ enum UvfStatus uvf_quadcover(const double *positions,
                              double *corner_uv_out,
                              int32_t *cone_index_out,
                              struct UvfQuadCoverReport *report_out);
+
+/**
+ * The integer grid lines of a QuadCover map (run as `uvf_quadcover` does, same `options`,
+ * `field` and `report_out`) as a polygon mesh on the input surface: the lines u, v ∈ ℤ /
+ * `density` (a whole number ≥ 1; 1: one quad per grid cell), traced exactly and joined across
+ * every seam of the map; its faces are the faces of the line graph, those that are not quads
+ * (around cones, next to folded triangles and on the boundary) split into quads and at most
+ * one triangle. Where the map has no cone and no fold every face is a quad, one per grid cell;
+ * with `cones_on_grid` the faces around cones are mostly quads as well.
+ *
+ * Returns `UVF_OK` (a handle in `*mesh_out`, read it with `uvf_quad_mesh_info` and
+ * `uvf_quad_mesh_copy`, free it with `uvf_quad_mesh_free`) or the errors of `uvf_quadcover`
+ * (a bad density or a NULL `mesh_out`: `UVF_INVALID_ARGUMENT`, before any work). On failure
+ * `*mesh_out` and `report_out` are untouched.
+ *
+ * # Safety
+ * As `uvf_quadcover`; `mesh_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_quadcover_quad_mesh(const double *positions,
+                                       size_t vertex_count,
+                                       const uint32_t *triangles,
+                                       size_t triangle_count,
+                                       const struct UvfQuadCoverOptions *options,
+                                       const double *field,
+                                       double density,
+                                       struct UvfQuadMesh **mesh_out,
+                                       struct UvfQuadCoverReport *report_out);
 
 #ifdef __cplusplus
 }  // extern "C"

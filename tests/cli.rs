@@ -380,4 +380,37 @@ fn quadcover_writes_per_corner_grid_coordinates_and_its_figures() {
     let bad = uvflat(&["quadcover", &mesh, "-o", out.to_str().unwrap(), "--grid-spacing=-2"]);
     assert_eq!(bad.status.code(), Some(1), "{}", stderr(&bad));
     assert!(stderr(&bad).contains("grid_spacing"), "{}", stderr(&bad));
+    // The integer grid lines as a quad mesh: no cone, no fold, so every face a quad.
+    let (quads, quad_svg) = (scratch("torus_quadcover_quads.obj"), scratch("torus_quadcover_quads.svg"));
+    let o = uvflat(&[
+        "quadcover",
+        &mesh,
+        "-o",
+        out.to_str().unwrap(),
+        "--quad-mesh",
+        quads.to_str().unwrap(),
+        "--quad-svg",
+        quad_svg.to_str().unwrap(),
+        "--json",
+    ]);
+    let q = &json(&o)["quad_mesh"];
+    let faces = q["faces"].as_u64().unwrap();
+    assert!(faces > 100 && q["quads"] == q["faces"], "{q}");
+    assert_eq!(count_lines(&quads, "f "), faces as usize);
+    assert_eq!(count_lines(&quads, "v "), q["vertices"].as_u64().unwrap() as usize);
+    assert!(std::fs::read_to_string(&quad_svg).expect("svg").contains("<svg"));
+    let bad = uvflat(&["quadcover", &mesh, "-o", out.to_str().unwrap(), "--quad-svg", quad_svg.to_str().unwrap()]);
+    assert_eq!(bad.status.code(), Some(2), "{}", stderr(&bad));
+    let bad = uvflat(&[
+        "quadcover",
+        &mesh,
+        "-o",
+        out.to_str().unwrap(),
+        "--quad-mesh",
+        quads.to_str().unwrap(),
+        "--quad-density",
+        "1.5",
+    ]);
+    assert_eq!(bad.status.code(), Some(1), "{}", stderr(&bad));
+    assert!(stderr(&bad).contains("density"), "{}", stderr(&bad));
 }

@@ -12,14 +12,17 @@
 
 #[path = "common/meshes.rs"]
 mod meshes;
+#[path = "common/polygon_mesh.rs"]
+mod polygon_mesh;
 #[path = "common/surfaces.rs"]
 mod surfaces;
 
 use meshes::{closed_meshes, load};
+use polygon_mesh::check_remesh;
 use std::time::Instant;
 use uvflat::geometry::{cross, dot, norm};
 use uvflat::mesh::NONE;
-use uvflat::methods::quadcover::{quadcover, QuadCoverOptions, QuadCoverResult};
+use uvflat::methods::quadcover::{quad_mesh, quadcover, QuadCoverOptions, QuadCoverResult};
 use uvflat::progress::Progress;
 use uvflat::TriMesh;
 
@@ -82,6 +85,73 @@ fn cones_on_grid_puts_every_cone_on_an_integer_point() {
     }
 }
 
+/// Σ of the signed (u, v) areas: the number of grid cells the map covers.
+fn uv_area(result: &QuadCoverResult) -> f64 {
+    result.uv.iter().map(|&q| uvflat::metrics::signed_uv_area(q)).sum()
+}
+
+#[test]
+fn the_integer_grid_lines_form_a_manifold_quad_mesh_on_the_surface() {
+    // Course notes ch. 8: the grid lines of a QuadCover map "form a global closed
+    // quadrilateral grid". Checked on the output of `quad_mesh`: a manifold polygon mesh
+    // (closed when the input is), vertices on the input surface; where no triangle folds and
+    // there is no cone, every face is a quad and there is one quad per grid cell — as many as
+    // the map's (u, v) area, a figure the remesh never sees — and density d gives d² times as
+    // many. Around a cone the lines end on the edge where its quarter turns do not close, and
+    // the polygons there are split into quads and at most one triangle (as PGP's, §5).
+    let torus = surfaces::torus(2.0, 0.7, 80, 32);
+    let mut cases: Vec<(String, TriMesh)> =
+        vec![("torus".into(), TriMesh::new(&torus.positions, &torus.triangles).expect("torus"))];
+    for name in [
+        "closed_g0_bunny.obj",
+        "closed_g3_triple_torus.obj",
+        "closed_g4_fertility.obj",
+        "closed_g0_cow.obj",
+        "holes_pig.obj",
+        "disk_lilium.obj",
+    ] {
+        cases.push((name.into(), load(name)));
+    }
+    println!("| mesh | cones on grid | folded | (u, v) area | faces | quads | area ratio | quad angle error ° |");
+    println!("|---|---|---:|---:|---:|---:|---:|---:|");
+    for (name, mesh) in &cases {
+        for cones_on_grid in [false, true] {
+            let result = run(mesh, &QuadCoverOptions { cones_on_grid, ..Default::default() });
+            let quads = quad_mesh(mesh, &result, 1.0).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let report = check_remesh(name, mesh, &quads);
+            let cells = uv_area(&result);
+            println!(
+                "| {name} | {cones_on_grid} | {} | {cells:.3} | {} | {:.1}% | {:.3} | {:.1} |",
+                result.flipped,
+                quads.face_sizes.len(),
+                100.0 * report.quad_fraction,
+                report.area_ratio,
+                report.quad_angle_error
+            );
+            assert!(report.max_distance <= 0.01, "{name}: {report:?}");
+            let closed = mesh.topology().boundary_loops == 0;
+            if result.flipped == 0 && closed && result.cones.is_empty() {
+                assert_eq!(quads.quad_count(), quads.face_sizes.len(), "{name}: not all quads");
+                assert!((cells - cells.round()).abs() < 1e-6, "{name}: (u, v) area {cells}");
+                assert_eq!(quads.face_sizes.len() as f64, cells.round(), "{name}: one quad per cell");
+                let finer = quad_mesh(mesh, &result, 2.0).unwrap();
+                assert_eq!(finer.face_sizes.len(), 4 * quads.face_sizes.len(), "{name}: density 2");
+                check_remesh(name, mesh, &finer);
+            } else if 100 * result.flipped < mesh.triangle_count() && closed {
+                assert!(report.quad_fraction >= 0.9 && report.area_ratio >= 0.9, "{name}: {report:?}");
+            }
+        }
+    }
+    let mesh = &cases[0].1;
+    let result = run(mesh, &QuadCoverOptions::default());
+    for bad in [0.0, 0.5, 2.5, f64::NAN, f64::INFINITY, -1.0] {
+        let e = quad_mesh(mesh, &result, bad).unwrap_err();
+        assert!(e.to_string().contains("density"), "{bad}: {e}");
+    }
+    let other = load("closed_g1_bob.obj");
+    assert!(quad_mesh(&other, &result, 1.0).unwrap_err().to_string().contains("triangles"));
+}
+
 fn run(mesh: &TriMesh, options: &QuadCoverOptions) -> QuadCoverResult {
     quadcover(mesh, options, &mut Progress::none()).expect("quadcover")
 }
@@ -108,22 +178,30 @@ fn real_meshes_get_integer_seams_and_cones_and_hopf_poincare_holds() {
     // README table has them.
     names.retain(|n| !["kitten", "nefertiti", "armadillo", "cheese"].iter().any(|k| n.contains(k)));
     names.extend(["holes_pig.obj", "holes_annulus.obj", "disk_lilium.obj", "disk_spothead.obj"].map(String::from));
-    println!("| mesh | faces | cones | chains | flipped | energy cont. | energy | alignment ° | seconds |");
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("| mesh | faces | cones | chains | flipped | energy cont. | energy | alignment ° | seconds | quad mesh faces | quads | area | quad angle error ° | s |");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for name in &names {
         let mesh = load(name);
         let start = Instant::now();
         let result = run(&mesh, &QuadCoverOptions::default());
         let secs = start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let quads = quad_mesh(&mesh, &result, 1.0).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let quad_secs = start.elapsed().as_secs_f64();
+        let remesh = check_remesh(name, &mesh, &quads);
         println!(
-            "| {name} | {} | {} | {} | {} | {:.4} | {:.4} | {:.2} | {secs:.2} |",
+            "| {name} | {} | {} | {} | {} | {:.4} | {:.4} | {:.2} | {secs:.2} | {} | {:.1}% | {:.3} | {:.1} | {quad_secs:.2} |",
             mesh.triangle_count(),
             result.cones.len(),
             result.chains,
             result.flipped,
             result.energy_continuous,
             result.energy,
-            alignment_degrees(&mesh, &result)
+            alignment_degrees(&mesh, &result),
+            quads.face_sizes.len(),
+            100.0 * remesh.quad_fraction,
+            remesh.area_ratio,
+            remesh.quad_angle_error
         );
         let (rot, trans) = seam_errors(&mesh, &result.uv);
         assert!(rot < 1e-6 && trans < 1e-6, "{name}: seam misfit {rot:.2e}, translation off Z² by {trans:.2e}");

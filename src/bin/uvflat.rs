@@ -25,7 +25,7 @@ use uvflat::methods::pgp::forced::forced_singular_triangles;
 use uvflat::methods::pgp::quality::quality;
 use uvflat::methods::pgp::smoothing::{SmoothingOptions, Symmetry};
 use uvflat::methods::pgp::{pgp, quad_dominant_remesh, PgpOptions, PolygonMesh};
-use uvflat::methods::quadcover::{quadcover, QuadCoverOptions};
+use uvflat::methods::quadcover::{quad_mesh as quadcover_quad_mesh, quadcover, QuadCoverOptions};
 use uvflat::methods::spectral_conformal::{spectral_conformal_map, SpectralOptions};
 use uvflat::methods::sphere::{spherical_map, SphereMethod, SphereOptions};
 use uvflat::metrics::{distortion, Metrics};
@@ -98,6 +98,17 @@ struct QuadCoverArgs {
     /// Also write an SVG picture of the (u, v) triangles.
     #[arg(long)]
     svg: Option<PathBuf>,
+    /// Write the quad-dominant mesh of the integer iso-lines (non-quads split into quads and at
+    /// most one triangle) to this OBJ.
+    #[arg(long = "quad-mesh")]
+    quad_mesh: Option<PathBuf>,
+    /// Iso-lines per grid unit for --quad-mesh (a whole number >= 1; 1: one quad per grid
+    /// cell).
+    #[arg(long = "quad-density", default_value_t = 1.0)]
+    quad_density: f64,
+    /// Draw the quad mesh into this SVG file (needs --quad-mesh).
+    #[arg(long = "quad-svg")]
+    quad_svg: Option<PathBuf>,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -714,6 +725,9 @@ fn sphere(args: &SphereArgs) -> Result<(), Failure> {
 
 /// `uvflat quadcover`: per-corner (u, v) in grid units, written as `vt`.
 fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
+    if args.quad_svg.is_some() && args.quad_mesh.is_none() {
+        return Err(usage("--quad-svg needs --quad-mesh"));
+    }
     let obj = read_obj(&args.input)?;
     let mesh = TriMesh::new(&obj.positions, &obj.triangles)?;
     let options = QuadCoverOptions {
@@ -733,6 +747,18 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
         let tris: Vec<[u32; 3]> = (0..result.uv.len() as u32).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
         write_uv_svg(svg, &uv, &tris)?;
     }
+    let quads = match &args.quad_mesh {
+        Some(path) => {
+            let remesh = quadcover_quad_mesh(&mesh, &result, args.quad_density)?;
+            write_polygon_obj(path, &remesh)?;
+            if let Some(svg) = &args.quad_svg {
+                let faces: Vec<Vec<u32>> = remesh.faces().map(|f| f.to_vec()).collect();
+                write_polygon_mesh_svg(svg, &remesh.positions, &faces)?;
+            }
+            Some((remesh.face_sizes.len(), remesh.quad_count(), remesh.positions.len()))
+        }
+        None => None,
+    };
     if args.json {
         println!(
             "{}",
@@ -743,6 +769,9 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
                 "flipped": result.flipped, "rounding_offset": result.rounding_offset,
                 "lattice_error": result.lattice_error, "energy_continuous": result.energy_continuous,
                 "energy": result.energy, "output": args.output.display().to_string(),
+                "quad_mesh": quads.map(|(faces, quads, vertices)| serde_json::json!({
+                    "faces": faces, "quads": quads, "vertices": vertices, "density": args.quad_density,
+                })),
             })
         );
     } else {
@@ -765,6 +794,12 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
             "  field energy (eq. 8.6)      {:.4} continuous, {:.4} with integer gaps (largest gap offset {:.3})",
             result.energy_continuous, result.energy, result.rounding_offset
         );
+        if let Some((faces, quad_count, vertices)) = quads {
+            println!(
+                "  quad mesh                   {faces} faces ({:.1}% quads), {vertices} vertices",
+                100.0 * quad_count as f64 / faces.max(1) as f64
+            );
+        }
     }
     Ok(())
 }

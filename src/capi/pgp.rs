@@ -527,11 +527,11 @@ pub unsafe extern "C" fn uvf_pgp_free(pgp: *mut UvfPgp) {
     }
 }
 
-/// A quad-dominant remesh of a PGP result (Ray et al. 2006, §5): created by
-/// `uvf_pgp_quad_mesh`, read with `uvf_quad_mesh_info` and `uvf_quad_mesh_copy`, released with
-/// `uvf_quad_mesh_free`.
+/// A quad-dominant remesh of a PGP result (Ray et al. 2006, §5) or of the integer grid lines of
+/// a QuadCover map: created by `uvf_pgp_quad_mesh` or `uvf_quadcover_quad_mesh`, read with
+/// `uvf_quad_mesh_info` and `uvf_quad_mesh_copy`, released with `uvf_quad_mesh_free`.
 pub struct UvfQuadMesh {
-    mesh: PolygonMesh,
+    pub(super) mesh: PolygonMesh,
 }
 
 /// Counts of a quad-dominant remesh.

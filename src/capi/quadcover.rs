@@ -1,11 +1,13 @@
 //! C ABI of QuadCover (`methods::quadcover`).
 
+use super::pgp::UvfQuadMesh;
 use super::{
     borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, UvfProgressFn,
 };
-use crate::error::Error;
 use crate::error::UvfStatus;
-use crate::methods::quadcover::{quadcover, QuadCoverOptions};
+use crate::error::{Error, Result};
+use crate::methods::pgp::isolines::check_density;
+use crate::methods::quadcover::{quad_mesh, quadcover, QuadCoverOptions, QuadCoverResult};
 use crate::progress::Progress;
 use std::os::raw::c_void;
 
@@ -123,35 +125,8 @@ pub unsafe extern "C" fn uvf_quadcover(
     report_out: *mut UvfQuadCoverReport,
 ) -> UvfStatus {
     guard(|| {
-        let full = std::mem::size_of::<UvfQuadCoverOptions>();
-        let o = read_options(options, UvfQuadCoverOptions::default(), full, "UvfQuadCoverOptions")?;
-        if !(o.grid_spacing.is_finite() && o.grid_spacing >= 0.0) {
-            return Err(Error::InvalidArgument(format!(
-                "grid_spacing must be finite and >= 0 (0: automatic; got {})",
-                o.grid_spacing
-            )));
-        }
-        if o.round > 1 || o.cones_on_grid > 1 {
-            return Err(Error::InvalidArgument(format!(
-                "round and cones_on_grid must be 0 or 1 (got {} and {})",
-                o.round, o.cones_on_grid
-            )));
-        }
+        let (opts, progress, progress_user) = options_from_c(options, field, triangle_count)?;
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
-        let field = if field.is_null() {
-            None
-        } else {
-            let f = borrow_slice(field, checked_count(triangle_count, 3, "field")?, "field")?;
-            Some(f.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
-        };
-        let opts = QuadCoverOptions {
-            grid_spacing: (o.grid_spacing > 0.0).then_some(o.grid_spacing),
-            field,
-            alignment: o.alignment,
-            round: o.round == 1,
-            cones_on_grid: o.cones_on_grid == 1,
-            ..QuadCoverOptions::default()
-        };
         // Checked before the work so that a bad output pointer leaves everything untouched.
         let uv = borrow_slice_mut(corner_uv_out, checked_count(triangle_count, 6, "corner")?, "corner_uv_out")?;
         let cones = if cone_index_out.is_null() {
@@ -159,7 +134,7 @@ pub unsafe extern "C" fn uvf_quadcover(
         } else {
             Some(borrow_slice_mut(cone_index_out, vertex_count, "cone_index_out")?)
         };
-        let mut callback = progress_closure(o.progress, o.progress_user);
+        let mut callback = progress_closure(progress, progress_user);
         let result = quadcover(&mesh, &opts, &mut Progress::new(&mut callback))?;
         for (d, c) in uv.chunks_exact_mut(6).zip(&result.uv) {
             d.copy_from_slice(c.as_flattened());
@@ -170,19 +145,109 @@ pub unsafe extern "C" fn uvf_quadcover(
                 out[v as usize] = (4.0 * index).round() as i32;
             }
         }
-        if !report_out.is_null() {
-            // SAFETY: non-null, and the caller promises a writable UvfQuadCoverReport.
-            report_out.write(UvfQuadCoverReport {
-                cone_count: result.cones.len() as u32,
-                chain_count: result.chains as u32,
-                flipped_count: result.flipped as u32,
-                grid_spacing: result.grid_spacing,
-                rounding_offset: result.rounding_offset,
-                lattice_error: result.lattice_error,
-                energy_continuous: result.energy_continuous,
-                energy: result.energy,
-            });
-        }
+        write_report(report_out, &result);
         Ok(())
     })
+}
+
+/// The integer grid lines of a QuadCover map (run as `uvf_quadcover` does, same `options`,
+/// `field` and `report_out`) as a polygon mesh on the input surface: the lines u, v ∈ ℤ /
+/// `density` (a whole number ≥ 1; 1: one quad per grid cell), traced exactly and joined across
+/// every seam of the map; its faces are the faces of the line graph, those that are not quads
+/// (around cones, next to folded triangles and on the boundary) split into quads and at most
+/// one triangle. Where the map has no cone and no fold every face is a quad, one per grid cell;
+/// with `cones_on_grid` the faces around cones are mostly quads as well.
+///
+/// Returns `UVF_OK` (a handle in `*mesh_out`, read it with `uvf_quad_mesh_info` and
+/// `uvf_quad_mesh_copy`, free it with `uvf_quad_mesh_free`) or the errors of `uvf_quadcover`
+/// (a bad density or a NULL `mesh_out`: `UVF_INVALID_ARGUMENT`, before any work). On failure
+/// `*mesh_out` and `report_out` are untouched.
+///
+/// # Safety
+/// As `uvf_quadcover`; `mesh_out` must be NULL or writable.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn uvf_quadcover_quad_mesh(
+    positions: *const f64,
+    vertex_count: usize,
+    triangles: *const u32,
+    triangle_count: usize,
+    options: *const UvfQuadCoverOptions,
+    field: *const f64,
+    density: f64,
+    mesh_out: *mut *mut UvfQuadMesh,
+    report_out: *mut UvfQuadCoverReport,
+) -> UvfStatus {
+    guard(|| {
+        let (opts, progress, progress_user) = options_from_c(options, field, triangle_count)?;
+        check_density(density)?;
+        let slot = borrow_slice_mut(mesh_out, 1, "mesh_out")?;
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mut callback = progress_closure(progress, progress_user);
+        let result = quadcover(&mesh, &opts, &mut Progress::new(&mut callback))?;
+        let quads = quad_mesh(&mesh, &result, density)?;
+        slot[0] = Box::into_raw(Box::new(UvfQuadMesh { mesh: quads }));
+        write_report(report_out, &result);
+        Ok(())
+    })
+}
+
+/// The Rust options (and the progress callback) of a C options struct and field.
+///
+/// # Safety
+/// `options` NULL or a readable struct; `field` NULL or 3 doubles per triangle.
+unsafe fn options_from_c(
+    options: *const UvfQuadCoverOptions,
+    field: *const f64,
+    triangle_count: usize,
+) -> Result<(QuadCoverOptions, UvfProgressFn, *mut c_void)> {
+    let full = std::mem::size_of::<UvfQuadCoverOptions>();
+    let o = read_options(options, UvfQuadCoverOptions::default(), full, "UvfQuadCoverOptions")?;
+    if !(o.grid_spacing.is_finite() && o.grid_spacing >= 0.0) {
+        return Err(Error::InvalidArgument(format!(
+            "grid_spacing must be finite and >= 0 (0: automatic; got {})",
+            o.grid_spacing
+        )));
+    }
+    if o.round > 1 || o.cones_on_grid > 1 {
+        return Err(Error::InvalidArgument(format!(
+            "round and cones_on_grid must be 0 or 1 (got {} and {})",
+            o.round, o.cones_on_grid
+        )));
+    }
+    let field = if field.is_null() {
+        None
+    } else {
+        let f = borrow_slice(field, checked_count(triangle_count, 3, "field")?, "field")?;
+        Some(f.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+    };
+    let opts = QuadCoverOptions {
+        grid_spacing: (o.grid_spacing > 0.0).then_some(o.grid_spacing),
+        field,
+        alignment: o.alignment,
+        round: o.round == 1,
+        cones_on_grid: o.cones_on_grid == 1,
+        ..QuadCoverOptions::default()
+    };
+    Ok((opts, o.progress, o.progress_user))
+}
+
+/// Writes the report of `result` when `report_out` is not NULL.
+///
+/// # Safety
+/// `report_out` NULL or writable.
+unsafe fn write_report(report_out: *mut UvfQuadCoverReport, result: &QuadCoverResult) {
+    if !report_out.is_null() {
+        // SAFETY: non-null, and the caller promises a writable UvfQuadCoverReport.
+        report_out.write(UvfQuadCoverReport {
+            cone_count: result.cones.len() as u32,
+            chain_count: result.chains as u32,
+            flipped_count: result.flipped as u32,
+            grid_spacing: result.grid_spacing,
+            rounding_offset: result.rounding_offset,
+            lattice_error: result.lattice_error,
+            energy_continuous: result.energy_continuous,
+            energy: result.energy,
+        });
+    }
 }

@@ -400,6 +400,36 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
         check(uvf_quadcover(positions, nv, triangles, nt, &qc, field, corner_uv, NULL, &qc_report) == UVF_OK &&
                   qc_report.cone_count == 0 && qc_report.flipped_count == 0,
               "quadcover with a constant field: no cone, no fold");
+        {
+            UvfQuadMesh *grid_quads = NULL;
+            UvfQuadMeshInfo gi;
+            check(uvf_quadcover_quad_mesh(positions, nv, triangles, nt, &qc, field, 1.0, &grid_quads, &qc_report) ==
+                          UVF_OK &&
+                      grid_quads != NULL && qc_report.cone_count == 0,
+                  "quadcover quad mesh of the flat grid");
+            if (grid_quads != NULL) {
+                /* The faces tile the (u, v) image of the surface (area = cells covered, from the
+                   corner (u, v) of the same map above): whole cells inside, cells cut by the
+                   boundary around it. */
+                double cells = 0.0;
+                for (k = 0; k < nt; k++) {
+                    const double *q = corner_uv + 6 * k;
+                    cells += 0.5 * ((q[2] - q[0]) * (q[5] - q[1]) - (q[4] - q[0]) * (q[3] - q[1]));
+                }
+                check(uvf_quad_mesh_info(grid_quads, &gi) == UVF_OK, "quadcover quad mesh info");
+                check((double)gi.face_count >= cells && 5 * gi.quad_count >= 4 * gi.face_count,
+                      "quadcover quad mesh: the cells of the grid");
+                uvf_quad_mesh_free(grid_quads);
+            }
+            grid_quads = NULL;
+            check(uvf_quadcover_quad_mesh(positions, nv, triangles, nt, &qc, field, 2.5, &grid_quads, NULL) ==
+                          UVF_INVALID_ARGUMENT &&
+                      grid_quads == NULL && strstr(uvf_last_error_message(), "density") != NULL,
+                  "quadcover quad mesh: a fractional density is refused");
+            check(uvf_quadcover_quad_mesh(positions, nv, triangles, nt, &qc, field, 1.0, NULL, NULL) ==
+                      UVF_INVALID_ARGUMENT,
+                  "quadcover quad mesh: NULL output refused");
+        }
         field[5] = NAN;
         corner_uv[0] = 42.0;
         check(uvf_quadcover(positions, nv, triangles, nt, &qc, field, corner_uv, NULL, NULL) == UVF_INVALID_ARGUMENT &&

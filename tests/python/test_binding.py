@@ -118,7 +118,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 77, sorted(functions)
+    assert len(functions) == 78, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -1309,6 +1309,30 @@ def test_quadcover_gives_integer_seams_and_cones_and_checks_its_input():
         uvflat.quadcover(p, t, field=np.ones((3, 3)))
     with pytest.raises(uvflat.Cancelled):
         uvflat.quadcover(p, t, progress=lambda fraction: False)
+
+
+def test_quadcover_quad_mesh_is_a_closed_quad_mesh_with_a_quad_per_grid_cell():
+    p, t = load_mesh("closed_g3_triple_torus.obj")
+    corner_uv, _, report = uvflat.quadcover(p, t, cones_on_grid=True)
+    positions, faces, quad_report = uvflat.quadcover_quad_mesh(p, t, cones_on_grid=True)
+    assert quad_report == report
+    # Closed and manifold: every directed edge once, with its opposite.
+    directed = [(int(f[i]), int(f[(i + 1) % len(f)])) for f in faces for i in range(len(f))]
+    assert len(set(directed)) == len(directed) and all((b, a) in set(directed) for a, b in directed)
+    assert all(len(set(f.tolist())) == len(f) for f in faces) and positions.shape[1] == 3
+    quads = sum(len(f) == 4 for f in faces)
+    assert quads >= 0.95 * len(faces), (quads, len(faces))
+    # About one face per grid cell: the (u, v) area of the map (cells it covers).
+    a, b, c = corner_uv[:, 0], corner_uv[:, 1], corner_uv[:, 2]
+    cells = 0.5 * np.sum((b - a)[:, 0] * (c - a)[:, 1] - (c - a)[:, 0] * (b - a)[:, 1])
+    assert abs(len(faces) - cells) <= 0.05 * cells, (len(faces), cells)
+    # Twice the lines per unit: about four times the faces.
+    _, finer, _ = uvflat.quadcover_quad_mesh(p, t, cones_on_grid=True, density=2)
+    assert 3.6 * len(faces) <= len(finer) <= 4.4 * len(faces)
+    with pytest.raises(uvflat.InvalidArgument, match="density"):
+        uvflat.quadcover_quad_mesh(p, t, density=2.5)
+    with pytest.raises(uvflat.Cancelled):
+        uvflat.quadcover_quad_mesh(p, t, progress=lambda fraction: False)
 
 
 def test_boundary_editor_matches_a_fresh_solve_and_its_basis():

@@ -825,19 +825,7 @@ def quadcover(
         :class:`QuadCoverReport`.
     """
     p, t = _mesh_arrays(positions, triangles)
-    options = L.UvfQuadCoverOptions()
-    L.library().uvf_quadcover_options_default(byref(options))
-    if grid_spacing is not None:
-        options.grid_spacing = float(grid_spacing)
-    if alignment is not None:
-        options.alignment = float(alignment)
-    options.round = 1 if round else 0
-    options.cones_on_grid = 1 if cones_on_grid else 0
-    f = None
-    if field is not None:
-        f = _as_points(field, 3, "field")
-        if len(f) != len(t):
-            raise InvalidArgument(f"field has {len(f)} vectors but the mesh has {len(t)} triangles")
+    options, f = _quadcover_options(t, field, grid_spacing, alignment, round, cones_on_grid)
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     corner_uv = np.empty((len(t), 3, 2), dtype=np.float64)
@@ -859,6 +847,64 @@ def quadcover(
         )
     )
     return corner_uv, cones, _from_struct(QuadCoverReport, report)
+
+
+def quadcover_quad_mesh(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    *,
+    density: int = 1,
+    field: Optional[ArrayLike] = None,
+    grid_spacing: Optional[float] = None,
+    alignment: Optional[float] = None,
+    cones_on_grid: bool = False,
+    progress: Optional[ProgressCallback] = None,
+) -> Tuple[np.ndarray, List[np.ndarray], QuadCoverReport]:
+    """The integer grid lines of a :func:`quadcover` map as a polygon mesh on the surface
+    (``uvf_quadcover_quad_mesh``): lines u, v ∈ ℤ / ``density`` (a whole number ≥ 1; 1: one quad
+    per grid cell), joined across every seam; faces that are not quads (around cones, next to
+    folded triangles, on the boundary) are split into quads and at most one triangle. Where the
+    map has no cone and no fold every face is a quad; ``cones_on_grid=True`` makes most faces
+    around cones quads as well. The other arguments are :func:`quadcover`'s.
+
+    Returns:
+        ``(positions, faces, report)``: ``(k, 3)`` vertex positions on the input surface, a
+        list of int arrays (the corners of every face, counter-clockwise seen from outside),
+        and the :class:`QuadCoverReport` of the map.
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    options, f = _quadcover_options(t, field, grid_spacing, alignment, True, cones_on_grid)
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    report = L.UvfQuadCoverReport()
+    lib = L.library()
+    quad = POINTER(L.UvfQuadMesh)()
+    field_pointer = _f64p(f) if f is not None else None
+    bridge.run(
+        lambda: lib.uvf_quadcover_quad_mesh(
+            _f64p(p), len(p), _u32p(t), len(t), byref(options), field_pointer, float(density), byref(quad), byref(report)
+        )
+    )
+    quad_positions, faces = _take_quad_mesh(lib, quad)
+    return quad_positions, faces, _from_struct(QuadCoverReport, report)
+
+
+def _quadcover_options(t, field, grid_spacing, alignment, round, cones_on_grid):
+    """``UvfQuadCoverOptions`` and the checked field array (or None)."""
+    options = L.UvfQuadCoverOptions()
+    L.library().uvf_quadcover_options_default(byref(options))
+    if grid_spacing is not None:
+        options.grid_spacing = float(grid_spacing)
+    if alignment is not None:
+        options.alignment = float(alignment)
+    options.round = 1 if round else 0
+    options.cones_on_grid = 1 if cones_on_grid else 0
+    f = None
+    if field is not None:
+        f = _as_points(field, 3, "field")
+        if len(f) != len(t):
+            raise InvalidArgument(f"field has {len(f)} vectors but the mesh has {len(t)} triangles")
+    return options, f
 
 
 @dataclasses.dataclass(frozen=True)
@@ -1362,6 +1408,11 @@ def _split(flat: np.ndarray, sizes: np.ndarray) -> List[np.ndarray]:
 def _quad_mesh(lib, handle, density: float) -> Tuple[np.ndarray, List[np.ndarray]]:
     quad = POINTER(L.UvfQuadMesh)()
     _check(lib.uvf_pgp_quad_mesh(handle, float(density), byref(quad)))
+    return _take_quad_mesh(lib, quad)
+
+
+def _take_quad_mesh(lib, quad) -> Tuple[np.ndarray, List[np.ndarray]]:
+    """Copies a ``UvfQuadMesh`` handle out and frees it."""
     try:
         info = L.UvfQuadMeshInfo()
         _check(lib.uvf_quad_mesh_info(quad, byref(info)))

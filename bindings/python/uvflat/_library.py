@@ -663,6 +663,20 @@ PROTOTYPES = {
             POINTER(UvfQuadCoverReport),
         ],
     ),
+    "uvf_quadcover_quad_mesh": (
+        UvfStatus,
+        [
+            _f64p,
+            c_size_t,
+            _u32p,
+            c_size_t,
+            POINTER(UvfQuadCoverOptions),
+            _f64p,
+            c_double,
+            POINTER(POINTER(UvfQuadMesh)),
+            POINTER(UvfQuadCoverReport),
+        ],
+    ),
     "uvf_intrinsic_optimal_options_default": (None, [POINTER(UvfIntrinsicOptimalOptions)]),
     "uvf_intrinsic_optimal_map": (
         UvfStatus,

@@ -30,7 +30,7 @@
 //!
 //! Cost: O(F + output) time and memory.
 
-use super::extraction::{angles, nearest_period};
+use super::extraction::{angles, nearest_period, CornerParameterization};
 use super::singularities::transition;
 use super::PgpResult;
 use crate::error::{Error, Result};
@@ -164,20 +164,51 @@ struct Chord {
     ends: [ChordEnd; 2],
 }
 
+/// What the iso-line graph is drawn from: a per-corner (θ, φ) of the form of Algorithm 1 — every
+/// corner is its vertex's two angles turned by `param.rotation` quarter turns plus
+/// `param.shift` whole periods — and the triangles that carry no lines. PGP's result gives one
+/// ([`PeriodicMap::of_pgp`]); so does any seamless map with quarter-turn, whole-period
+/// transitions (QuadCover, [`crate::methods::quadcover::quad_mesh`]).
+pub struct PeriodicMap<'a> {
+    /// Per-corner (θ, φ) with their rotations and shifts.
+    pub param: &'a CornerParameterization,
+    /// (θ, φ) of every vertex, in (−π, π]; `param.coords` must equal them turned and shifted
+    /// up to round-off (well below half a period).
+    pub vertex_angles: Vec<[f64; 2]>,
+    /// Triangles without lines (singular, §3.2, or otherwise not positively oriented).
+    pub singular_triangles: &'a [u32],
+}
+
+impl<'a> PeriodicMap<'a> {
+    /// The map of a PGP result: the angles of its unknowns, its singular triangles.
+    pub fn of_pgp(result: &'a PgpResult) -> Self {
+        PeriodicMap {
+            param: &result.param,
+            vertex_angles: result.unknowns.iter().map(|&x| angles(x)).collect(),
+            singular_triangles: &result.singularities.triangles,
+        }
+    }
+}
+
 /// Builds the iso-line graph of `result` at `density` lines per period (1: the chart
 /// boundaries of §3.3). Errors: density not a whole number ≥ 1 (the lines must be invariant
 /// under whole-period translations).
 pub fn iso_graph(mesh: &TriMesh, result: &PgpResult, density: f64) -> Result<IsoGraph> {
+    iso_graph_of(mesh, &PeriodicMap::of_pgp(result), density)
+}
+
+/// [`iso_graph`] of any [`PeriodicMap`].
+pub fn iso_graph_of(mesh: &TriMesh, map: &PeriodicMap, density: f64) -> Result<IsoGraph> {
     let d = check_density(density)?;
-    let grid = GridValues::new(mesh, result, d);
-    let regular = regular_triangles(mesh, result);
+    let grid = GridValues::new(mesh, map, d);
+    let regular = regular_triangles(mesh, map);
     let chords: Vec<Vec<Chord>> = (0..mesh.triangle_count())
         .into_par_iter()
         .with_min_len(1024)
         .map(|t| if regular[t] { triangle_chords(mesh, &grid, t) } else { Vec::new() })
         .collect();
     let mut builder = Builder::default();
-    let ends = builder.crossing_nodes(mesh, result, &regular, &chords);
+    let ends = builder.crossing_nodes(mesh, map.param, &regular, &chords);
     for t in 0..mesh.triangle_count() {
         if regular[t] {
             builder.triangle_grid(mesh, &grid, t, &chords[t], &ends[t]);
@@ -197,7 +228,8 @@ pub fn iso_graph(mesh: &TriMesh, result: &PgpResult, density: f64) -> Result<Iso
     Ok(graph)
 }
 
-fn check_density(density: f64) -> Result<i64> {
+/// The density as a whole number of lines per period; an error unless a whole number ≥ 1.
+pub fn check_density(density: f64) -> Result<i64> {
     if density.is_finite() && density >= 1.0 && density.fract() == 0.0 && density < 1e9 {
         Ok(density as i64)
     } else {
@@ -208,9 +240,9 @@ fn check_density(density: f64) -> Result<i64> {
 }
 
 /// Triangles that carry lines: not singular (§3.2).
-fn regular_triangles(mesh: &TriMesh, result: &PgpResult) -> Vec<bool> {
+fn regular_triangles(mesh: &TriMesh, map: &PeriodicMap) -> Vec<bool> {
     let mut regular = vec![true; mesh.triangle_count()];
-    for &t in &result.singularities.triangles {
+    for &t in map.singular_triangles {
         regular[t as usize] = false;
     }
     regular
@@ -224,11 +256,11 @@ struct GridValues {
 }
 
 impl GridValues {
-    fn new(mesh: &TriMesh, result: &PgpResult, density: i64) -> Self {
+    fn new(mesh: &TriMesh, map: &PeriodicMap, density: i64) -> Self {
         let scale = density as f64 / TAU;
-        let raw: Vec<[f64; 2]> = result.unknowns.iter().map(|&x| angles(x)).collect();
+        let raw = &map.vertex_angles;
         let angle = raw.iter().map(|a| [a[0] * scale, a[1] * scale]).collect();
-        let param = &result.param;
+        let param = map.param;
         let corner = (0..mesh.triangle_count())
             .map(|t| {
                 std::array::from_fn(|c| {
@@ -383,7 +415,7 @@ impl Builder {
     fn crossing_nodes(
         &mut self,
         mesh: &TriMesh,
-        result: &PgpResult,
+        param: &CornerParameterization,
         regular: &[bool],
         chords: &[Vec<Chord>],
     ) -> Vec<Vec<[ResolvedEnd; 2]>> {
@@ -395,7 +427,7 @@ impl Builder {
                 continue;
             }
             let g = twin[h];
-            let shared = g != NONE && regular[g as usize / 3] && edge_is_regular(result, h, g as usize);
+            let shared = g != NONE && regular[g as usize / 3] && edge_is_regular(param, h, g as usize);
             if shared && (g as usize) < h {
                 continue; // resolved with g
             }
@@ -583,9 +615,9 @@ fn edge_crossings(chords: &[Chord], edge: u8) -> Vec<(usize, usize)> {
 
 /// Whether the transitions of eq. 16 across the edge of half-edges `h` (in T1) and `g` (in T2)
 /// agree at both endpoints (the edge is not singular, §3.2).
-fn edge_is_regular(result: &PgpResult, h: usize, g: usize) -> bool {
+fn edge_is_regular(param: &CornerParameterization, h: usize, g: usize) -> bool {
     let (t1, k1, t2, k2) = (h / 3, h % 3, g / 3, g % 3);
-    transition(&result.param, (t1, k1), (t2, (k2 + 1) % 3)) == transition(&result.param, (t1, (k1 + 1) % 3), (t2, k2))
+    transition(param, (t1, k1), (t2, (k2 + 1) % 3)) == transition(param, (t1, (k1 + 1) % 3), (t2, k2))
 }
 
 /// Position along a triangle's boundary: edges in order, `rank` along the edge; corner c sits

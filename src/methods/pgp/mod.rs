@@ -301,5 +301,6 @@ fn tangent_field(mesh: &TriMesh, normals: &[[f64; 3]], field: &[[f64; 3]]) -> Re
     Ok(out)
 }
 
+pub use isolines::PeriodicMap;
 pub use layout::{chart_layout, ChartLayout};
-pub use remesh::{quad_dominant_remesh, PolygonMesh};
+pub use remesh::{quad_dominant_remesh, quad_dominant_remesh_of, PolygonMesh};

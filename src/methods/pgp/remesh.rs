@@ -11,7 +11,7 @@
 //! The output vertices lie on the input surface (inside a triangle or on an edge). Quad sides
 //! are about `2π / (ω · density)` long. Cost: O(F + output).
 
-use super::isolines::{iso_graph, IsoGraph, NodeKind};
+use super::isolines::{iso_graph_of, IsoGraph, NodeKind, PeriodicMap};
 use super::PgpResult;
 use crate::error::Result;
 use crate::geometry::{dot, norm, sub};
@@ -50,7 +50,12 @@ impl PolygonMesh {
 
 /// The quad-dominant remesh of `result` at `density` lines per period (a whole number ≥ 1).
 pub fn quad_dominant_remesh(mesh: &TriMesh, result: &PgpResult, density: f64) -> Result<PolygonMesh> {
-    let graph = iso_graph(mesh, result, density)?;
+    quad_dominant_remesh_of(mesh, &PeriodicMap::of_pgp(result), density)
+}
+
+/// [`quad_dominant_remesh`] of any [`PeriodicMap`] (e.g. QuadCover's seamless map).
+pub fn quad_dominant_remesh_of(mesh: &TriMesh, map: &PeriodicMap, density: f64) -> Result<PolygonMesh> {
+    let graph = iso_graph_of(mesh, map, density)?;
     let mut corner = corner_nodes(&graph);
     let faces = graph.faces();
     for v in parallel_side_nodes(&graph, &corner, &faces) {

@@ -119,6 +119,9 @@ pub struct Covering {
     pub chain_count: usize,
     /// Pivots that were not ±1 (their translations are rational, not integer, combinations).
     pub fractional_pivots: usize,
+    /// For every cut-mesh vertex, the quarter turns r of `J^r x_rep` in its expression: its
+    /// rotation relative to the first copy of its input vertex.
+    pub copy_rotation: Vec<u8>,
 }
 
 impl Covering {
@@ -503,5 +506,6 @@ fn assemble(
         cones,
         chain_count: chains.len(),
         fractional_pivots,
+        copy_rotation: exprs.iter().map(|e| e.rot).collect(),
     })
 }

@@ -6,7 +6,9 @@
 //! - [`covering`]: the branched covering cut open into the cut mesh, transition functions
 //!   `J^r z + t` across the cut, cones as integer points (§8.2.1 eq. 8.2, §8.3.1);
 //! - [`integration`]: eq. 8.6 minimized (the Hodge projection, eq. 8.7), gaps rounded, solved
-//!   again (§8.3.1).
+//!   again (§8.3.1);
+//! - [`remesh`]: the quad-dominant mesh of the integer iso-lines (§8.1: "the integer grid
+//!   lines ... form a quadrilateral mesh").
 //!
 //! Pipeline of [`quadcover`]: frame field (the caller's per triangle, or the principal
 //! curvature directions smoothed modulo π/2 by [`crate::methods::pgp::smoothing`]) →
@@ -24,6 +26,7 @@ pub mod covering;
 pub mod field;
 pub mod integration;
 pub mod matching;
+pub mod remesh;
 
 use crate::error::{Error, Result};
 use crate::mesh::cut::{cut_to_disk_through, EdgeCost};
@@ -83,6 +86,9 @@ impl Default for QuadCoverOptions {
 pub struct QuadCoverResult {
     /// (u, v) of every triangle corner, in grid units.
     pub uv: Vec<[[f64; 2]; 3]>,
+    /// Quarter turns r of every corner: its (u, v) is `J^r x + t` (J(u, v) = (v, −u), t a
+    /// translation) where x is the (u, v) of a corner of the same vertex with r = 0.
+    pub corner_rotation: Vec<[u8; 3]>,
     /// Cone vertices and their cross-field indices (multiples of 1/4).
     pub cones: Vec<(u32, f64)>,
     /// Edges of the cut graph (`[a, b]`, a < b).
@@ -158,6 +164,7 @@ pub fn quadcover(mesh: &TriMesh, options: &QuadCoverOptions, progress: &mut Prog
         energy_continuous,
         energy,
         uv,
+        corner_rotation: cut.triangles.iter().map(|tri| tri.map(|c| cover.copy_rotation[c as usize])).collect(),
     })
 }
 
@@ -207,3 +214,4 @@ fn cut_halfedges(mesh: &TriMesh, edges: &[[u32; 2]]) -> Vec<bool> {
         })
         .collect()
 }
+pub use remesh::quad_mesh;
