@@ -799,6 +799,12 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
                 "  quad mesh                   {faces} faces ({:.1}% quads), {vertices} vertices",
                 100.0 * quad_count as f64 / faces.max(1) as f64
             );
+            if faces == 0 {
+                println!(
+                    "  (no grid line survived: the lines stop at folded triangles and cones, which cover \
+                     this surface; a smaller --grid-spacing folds less)"
+                );
+            }
         }
     }
     Ok(())

@@ -32,8 +32,9 @@ use std::f64::consts::TAU;
 const SHIFT_TOLERANCE: f64 = 1e-6;
 
 /// The quad-dominant mesh of `result`'s iso-lines at `density` lines per grid unit (a whole
-/// number ≥ 1; 1 gives one quad per grid cell). Errors: bad density, a result that does not
-/// belong to `mesh`.
+/// number ≥ 1; 1 gives one quad per grid cell). Empty when no line survives (folded triangles
+/// and cones everywhere, as on the 1000-triangle knight at the default spacing). Errors: bad
+/// density, a result that does not belong to `mesh`.
 pub fn quad_mesh(mesh: &TriMesh, result: &QuadCoverResult, density: f64) -> Result<PolygonMesh> {
     if result.uv.len() != mesh.triangle_count() || result.corner_rotation.len() != mesh.triangle_count() {
         return Err(Error::InvalidArgument(format!(
