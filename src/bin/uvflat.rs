@@ -748,15 +748,11 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
         write_uv_svg(svg, &uv, &tris)?;
     }
     let quads = match &args.quad_mesh {
-        Some(path) => {
-            let remesh = quadcover_quad_mesh(&mesh, &result, args.quad_density)?;
-            write_polygon_obj(path, &remesh)?;
-            if let Some(svg) = &args.quad_svg {
-                let faces: Vec<Vec<u32>> = remesh.faces().map(|f| f.to_vec()).collect();
-                write_polygon_mesh_svg(svg, &remesh.positions, &faces)?;
-            }
-            Some((remesh.face_sizes.len(), remesh.quad_count(), remesh.positions.len()))
-        }
+        Some(path) => Some(write_quad_mesh(
+            &quadcover_quad_mesh(&mesh, &result, args.quad_density)?,
+            path,
+            args.quad_svg.as_deref(),
+        )?),
         None => None,
     };
     if args.json {
@@ -808,6 +804,17 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
         }
     }
     Ok(())
+}
+
+/// Writes a polygon mesh to an OBJ (and its picture to an SVG); returns its face, quad and
+/// vertex counts.
+fn write_quad_mesh(remesh: &PolygonMesh, path: &Path, svg: Option<&Path>) -> Result<(usize, usize, usize), Failure> {
+    write_polygon_obj(path, remesh)?;
+    if let Some(svg) = svg {
+        let faces: Vec<Vec<u32>> = remesh.faces().map(|f| f.to_vec()).collect();
+        write_polygon_mesh_svg(svg, &remesh.positions, &faces)?;
+    }
+    Ok((remesh.face_sizes.len(), remesh.quad_count(), remesh.positions.len()))
 }
 
 fn periodic(args: &PgpArgs) -> Result<(), Failure> {
@@ -880,15 +887,11 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
         write_periodic_svg(svg, &picture)?;
     }
     let quads = match &args.quad_mesh {
-        Some(path) => {
-            let remesh = quad_dominant_remesh(&mesh, &result, args.quad_density)?;
-            write_polygon_obj(path, &remesh)?;
-            if let Some(svg) = &args.quad_svg {
-                let faces: Vec<Vec<u32>> = remesh.faces().map(|f| f.to_vec()).collect();
-                write_polygon_mesh_svg(svg, &remesh.positions, &faces)?;
-            }
-            Some((remesh.face_sizes.len(), remesh.quad_count(), remesh.positions.len()))
-        }
+        Some(path) => Some(write_quad_mesh(
+            &quad_dominant_remesh(&mesh, &result, args.quad_density)?,
+            path,
+            args.quad_svg.as_deref(),
+        )?),
         None => None,
     };
     let charts = match &args.charts {
