@@ -69,3 +69,18 @@ fn circle_pattern_map_never_flips_and_keeps_every_circle_closed_on_the_disk_mesh
     println!("{successes} maps, {failures} numerical failures");
     assert!(successes >= 7, "{successes} maps, {failures} numerical failures");
 }
+
+#[test]
+fn the_angle_program_centres_on_camelhead_despite_rounding_noise() {
+    // disk_camelhead (23k faces, many slivers): the Newton decrement of the barrier problem
+    // changes sign from step to step at ±4·10⁻³ at t = 10⁶ (rounding in t·(α − β)/β²); a
+    // stopping floor that ignored this made the map fail with "no centred point".
+    let path = std::path::Path::new(cgal::MESH_DIR).join("disk_camelhead.obj");
+    let (positions, triangles) = read_plain_obj(&path).expect("read camelhead");
+    let mesh = TriMesh::new(&positions, &triangles).expect("valid mesh");
+    let result = circle_pattern_map(&mesh, &CirclePatternOptions::default(), &mut Progress::none())
+        .unwrap_or_else(|e| panic!("camelhead: {e}"));
+    let m = distortion(mesh.points(), mesh.triangles(), &result.uv, mesh.triangles()).expect("metrics");
+    assert!(result.report.closure_error < 1e-9, "{:?}", result.report);
+    assert_eq!((m.flipped, m.degenerate_uv), (0, 0));
+}

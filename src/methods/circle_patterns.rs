@@ -37,7 +37,7 @@
 //!
 //! The planar layout is the least-squares reconstruction from angles of ABF++
 //! ([`super::abf::reconstruct_uv`]), exact here because the angles are those of a planar
-//! triangulation. Cost: ~25 sparse Cholesky factorizations for the angles (order F + V), a
+//! triangulation. Cost: 40–90 sparse Cholesky factorizations for the angles (order F + V), a
 //! few Newton steps on the F radii, one factorization for the layout.
 
 use super::abf::reconstruct_uv;
@@ -555,10 +555,13 @@ impl AngleProgram {
                 }
                 // A full step solves the (linear) equalities; later steps keep them.
                 feasible |= s == 1.0;
-                // The decrement's rounding floor grows with t (the gradient holds t·w·(α − β),
-                // w = 1/β² large at slivers): 10⁻⁷ measured at t = 100 on disk_camelhead. A
-                // decrement λ² leaves the barrier problem λ²/2 above its minimum.
-                if feasible && decrement.abs() < 1e-6 + 1e-12 * t {
+                // The decrement's rounding floor grows in proportion to t (the gradient holds
+                // t·w·(α − β), w = 1/β² large at slivers): on disk_camelhead it changes sign
+                // from step to step at ±10⁻⁷ at t = 100, ±3·10⁻⁵ at t = 10⁴ and ±4·10⁻³ at
+                // t = 10⁶, about 4·10⁻⁹·t (a floor of 10⁻¹²·t failed there at t = 10⁶). A
+                // decrement λ² leaves the barrier problem λ²/2 above its minimum, i.e. f (which
+                // it scales by t) λ²/2t above: 10⁻⁷·t costs f at most 5·10⁻⁸.
+                if feasible && decrement.abs() < 1e-6 + 1e-7 * t {
                     centred = true;
                     break;
                 }
