@@ -382,17 +382,8 @@ fn quadcover_writes_per_corner_grid_coordinates_and_its_figures() {
     assert!(stderr(&bad).contains("grid_spacing"), "{}", stderr(&bad));
     // The integer grid lines as a quad mesh: no cone, no fold, so every face a quad.
     let (quads, quad_svg) = (scratch("torus_quadcover_quads.obj"), scratch("torus_quadcover_quads.svg"));
-    let o = uvflat(&[
-        "quadcover",
-        &mesh,
-        "-o",
-        out.to_str().unwrap(),
-        "--quad-mesh",
-        quads.to_str().unwrap(),
-        "--quad-svg",
-        quad_svg.to_str().unwrap(),
-        "--json",
-    ]);
+    let with_quads = ["quadcover", &mesh, "-o", out.to_str().unwrap(), "--quad-mesh", quads.to_str().unwrap()];
+    let o = uvflat(&[&with_quads[..], &["--quad-svg", quad_svg.to_str().unwrap(), "--json"]].concat());
     let q = &json(&o)["quad_mesh"];
     let faces = q["faces"].as_u64().unwrap();
     assert!(faces > 100 && q["quads"] == q["faces"], "{q}");
@@ -401,16 +392,7 @@ fn quadcover_writes_per_corner_grid_coordinates_and_its_figures() {
     assert!(std::fs::read_to_string(&quad_svg).expect("svg").contains("<svg"));
     let bad = uvflat(&["quadcover", &mesh, "-o", out.to_str().unwrap(), "--quad-svg", quad_svg.to_str().unwrap()]);
     assert_eq!(bad.status.code(), Some(2), "{}", stderr(&bad));
-    let bad = uvflat(&[
-        "quadcover",
-        &mesh,
-        "-o",
-        out.to_str().unwrap(),
-        "--quad-mesh",
-        quads.to_str().unwrap(),
-        "--quad-density",
-        "1.5",
-    ]);
+    let bad = uvflat(&[&with_quads[..], &["--quad-density", "1.5"]].concat());
     assert_eq!(bad.status.code(), Some(1), "{}", stderr(&bad));
     assert!(stderr(&bad).contains("density"), "{}", stderr(&bad));
 }
