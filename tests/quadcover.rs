@@ -22,6 +22,8 @@ use polygon_mesh::check_remesh;
 use std::time::Instant;
 use uvflat::geometry::{cross, dot, norm};
 use uvflat::mesh::NONE;
+use uvflat::methods::pgp::{quad_dominant_remesh_of, PeriodicMap};
+use uvflat::methods::quadcover::remesh::periodic_form;
 use uvflat::methods::quadcover::{quad_mesh, quadcover, QuadCoverOptions, QuadCoverResult};
 use uvflat::progress::Progress;
 use uvflat::TriMesh;
@@ -150,6 +152,15 @@ fn the_integer_grid_lines_form_a_manifold_quad_mesh_on_the_surface() {
     }
     let other = load("closed_g1_bob.obj");
     assert!(quad_mesh(&other, &result, 1.0).unwrap_err().to_string().contains("triangles"));
+    // The PGP-form map checked against the mesh too (a short angle array, a bad triangle id).
+    let (param, mut vertex_angles, mut singular) = periodic_form(mesh, &result);
+    vertex_angles.pop();
+    let map = PeriodicMap { param: &param, vertex_angles, singular_triangles: &singular };
+    assert!(quad_dominant_remesh_of(mesh, &map, 1.0).unwrap_err().to_string().contains("does not match"));
+    singular.push(mesh.triangle_count() as u32);
+    let (_, vertex_angles, _) = periodic_form(mesh, &result);
+    let map = PeriodicMap { param: &param, vertex_angles, singular_triangles: &singular };
+    assert!(quad_dominant_remesh_of(mesh, &map, 1.0).is_err());
 }
 
 fn run(mesh: &TriMesh, options: &QuadCoverOptions) -> QuadCoverResult {

@@ -197,9 +197,11 @@ pub fn iso_graph(mesh: &TriMesh, result: &PgpResult, density: f64) -> Result<Iso
     iso_graph_of(mesh, &PeriodicMap::of_pgp(result), density)
 }
 
-/// [`iso_graph`] of any [`PeriodicMap`].
+/// [`iso_graph`] of any [`PeriodicMap`]. Errors: bad density, a map whose sizes do not match
+/// `mesh`.
 pub fn iso_graph_of(mesh: &TriMesh, map: &PeriodicMap, density: f64) -> Result<IsoGraph> {
     let d = check_density(density)?;
+    check_sizes(mesh, map)?;
     let grid = GridValues::new(mesh, map, d);
     let regular = regular_triangles(mesh, map);
     let chords: Vec<Vec<Chord>> = (0..mesh.triangle_count())
@@ -226,6 +228,24 @@ pub fn iso_graph_of(mesh: &TriMesh, map: &PeriodicMap, density: f64) -> Result<I
     graph.nibble();
     graph.keep_largest_components(mesh);
     Ok(graph)
+}
+
+/// Errors unless `map` has one entry per triangle (per vertex for the angles) of `mesh`.
+fn check_sizes(mesh: &TriMesh, map: &PeriodicMap) -> Result<()> {
+    let (t, p) = (mesh.triangle_count(), map.param);
+    let sizes = [p.coords.len(), p.rotation.len(), p.shift.len()];
+    if sizes.iter().any(|&n| n != t)
+        || map.vertex_angles.len() != mesh.vertex_count()
+        || map.singular_triangles.iter().any(|&s| s as usize >= t)
+    {
+        return Err(Error::InvalidArgument(format!(
+            "the periodic map does not match the mesh ({t} triangles, {} vertices; the map has {sizes:?} corner \
+             triangles and {} vertex angles)",
+            mesh.vertex_count(),
+            map.vertex_angles.len()
+        )));
+    }
+    Ok(())
 }
 
 /// The density as a whole number of lines per period; an error unless a whole number ≥ 1.
