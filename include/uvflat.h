@@ -686,6 +686,12 @@ typedef struct UvfCirclePatternOptions {
    * Passed to `progress` unchanged.
    */
   void *progress_user;
+  /**
+   * 1: flip the edges to the intrinsic Delaunay triangulation of the mesh's metric first, as
+   * the paper does (default); 0: enforce the Delaunay condition on the mesh's own edges,
+   * which never flips a triangle but distorts the angles at non-Delaunay edges.
+   */
+  uint32_t intrinsic_delaunay;
 } UvfCirclePatternOptions;
 
 /**
@@ -705,13 +711,22 @@ typedef struct UvfCirclePatternReport {
    */
   double closure_error;
   /**
-   * Interior edges whose 3D angles violate the Delaunay condition (the program moves them).
+   * Interior edges of the triangulation used (after the intrinsic flips, if any) whose
+   * angles violate the Delaunay condition (the program moves them).
    */
   uint32_t non_delaunay_edges;
   /**
    * Largest |α − β| between a planar and a 3D angle (radians).
    */
   double max_angle_change;
+  /**
+   * Intrinsic edge flips made before the program.
+   */
+  uint32_t intrinsic_flips;
+  /**
+   * Mesh triangles whose uv area is not positive (always 0 with `intrinsic_delaunay` = 0).
+   */
+  uint32_t flipped_triangles;
 } UvfCirclePatternReport;
 
 /**
@@ -1756,7 +1771,8 @@ enum UvfStatus uvf_atlas_copy_original_vertices(const struct UvfAtlas *atlas,
 void uvf_atlas_free(struct UvfAtlas *atlas);
 
 /**
- * Fills `options` with defaults (100 iterations, tolerance 1e-11, automatic pins, no callback).
+ * Fills `options` with defaults (100 iterations, tolerance 1e-11, automatic pins, no callback,
+ * intrinsic Delaunay flips on).
  *
  * # Safety
  * `options` must be NULL or point to a writable struct.
@@ -1765,13 +1781,16 @@ void uvf_circle_pattern_options_default(struct UvfCirclePatternOptions *options)
 
 /**
  * Conformal map by circle patterns (Kharevych, Springborn & Schröder 2006; course notes §4.4),
- * free boundary: planar angles from the paper's quadratic program (closest to the 3D angles
- * under the triangle and interior-vertex sums, positivity and the local Delaunay condition,
- * solved by a log barrier), the intersection angles of the triangles' circumcircles from them,
- * the log radii as the minimizer of the paper's convex energy (Newton), and the layout of the
- * pattern's triangles. Every planar angle is in (0, π) and the angles close around every
- * interior vertex, so no triangle is flipped. Not implemented: the paper's intrinsic Delaunay
- * flips before the program, cone singularities and prescribed boundary curvature.
+ * free boundary: the edges flipped to the intrinsic Delaunay triangulation of the mesh's
+ * metric (paper §4; `intrinsic_delaunay`), planar angles from the paper's quadratic program
+ * (closest to the 3D angles under the triangle and interior-vertex sums, positivity and the
+ * local Delaunay condition, solved by a log barrier), the intersection angles of the
+ * triangles' circumcircles from them, the log radii as the minimizer of the paper's convex
+ * energy (Newton), and the layout of the pattern's triangles. Every planar angle of the
+ * pattern is in (0, π) and they close around every interior vertex; the mesh's triangles take
+ * their vertices' uv, so after intrinsic flips some may be flipped (counted in
+ * `flipped_triangles`; none without the flips). Not implemented: cone singularities and
+ * prescribed boundary curvature.
  *
  * Needs a connected genus-0 mesh with at least one boundary. `uv_out` receives 2 doubles per
  * vertex (NaN for unreferenced ones); `options` and `report_out` may be NULL. Returns `UVF_OK`,

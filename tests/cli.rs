@@ -219,6 +219,26 @@ fn bad_meshes_print_the_library_message_and_exit_1() {
 }
 
 #[test]
+fn circle_patterns_flip_to_intrinsic_delaunay_unless_told_not_to() {
+    let out = scratch("cp.obj");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["unwrap", SAMPLE, "-o", out.to_str().unwrap(), "--method", "circle-patterns", "--json"];
+        args.extend_from_slice(extra);
+        json(&uvflat(&args))
+    };
+    let flipped = run(&[]);
+    let plain = run(&["--no-intrinsic-delaunay"]);
+    assert!(flipped["intrinsic_flips"].as_u64().is_some_and(|n| n > 0), "{flipped}");
+    assert_eq!(flipped["flipped"], flipped["flipped_triangles"], "{flipped}");
+    assert_eq!(plain["intrinsic_flips"], 0, "{plain}");
+    assert_eq!(plain["flipped"], 0, "{plain}");
+    // On the intrinsic Delaunay triangulation the 3D angles need not be moved to meet the
+    // Delaunay condition, so the planar angles stay closer to them.
+    let change = |r: &serde_json::Value| r["max_angle_change"].as_f64().unwrap();
+    assert!(change(&flipped) < change(&plain), "{flipped} {plain}");
+}
+
+#[test]
 fn options_that_do_not_apply_are_usage_errors() {
     let out = scratch("u.obj");
     let out = out.to_str().unwrap();
@@ -228,6 +248,7 @@ fn options_that_do_not_apply_are_usage_errors() {
         vec!["unwrap", SAMPLE, "-o", out, "--pin", "1"],
         vec!["unwrap", SAMPLE, "-o", out, "--method", "tutte", "--lambda", "2"],
         vec!["unwrap", SAMPLE, "-o", out, "--method", "nonsense"],
+        vec!["unwrap", SAMPLE, "-o", out, "--method", "abf", "--no-intrinsic-delaunay"],
     ] {
         let o = uvflat(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));

@@ -281,6 +281,10 @@ struct UnwrapArgs {
     /// §5.1); default edge.
     #[arg(long, value_enum)]
     energy: Option<EnergyName>,
+    /// circle-patterns: enforce the Delaunay condition on the mesh's own edges instead of
+    /// flipping to the intrinsic Delaunay triangulation first (never flips, more distortion).
+    #[arg(long = "no-intrinsic-delaunay")]
+    no_intrinsic_delaunay: bool,
     /// Also draw the UV layout into this SVG file.
     #[arg(long)]
     svg: Option<PathBuf>,
@@ -389,7 +393,7 @@ const METHODS: [(MethodName, &str, &str); 19] = [
     (
         MethodName::CirclePatterns,
         "circle-patterns",
-        "free boundary, conformal by circle patterns (Kharevych et al. 2006; no intrinsic Delaunay flips); never flips",
+        "free boundary, conformal by circle patterns on the intrinsic Delaunay triangulation (Kharevych et al. 2006)",
     ),
     (
         MethodName::IntrinsicOptimal,
@@ -1122,6 +1126,9 @@ fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
     if !optimizing && args.energy.is_some() {
         return Err(usage("--energy applies to --method intrinsic-optimal and boundary-optimized only"));
     }
+    if method != MethodName::CirclePatterns && args.no_intrinsic_delaunay {
+        return Err(usage("--no-intrinsic-delaunay applies to --method circle-patterns only"));
+    }
     Ok(())
 }
 
@@ -1194,19 +1201,25 @@ fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<(Vec<[f64; 2]>, serde
             return Ok((r.uv, extra));
         }
         MethodName::CirclePatterns => {
-            let r = circle_pattern_map(mesh, &CirclePatternOptions::default(), &mut Progress::none())?;
+            let options = CirclePatternOptions {
+                intrinsic_delaunay: !args.no_intrinsic_delaunay,
+                ..CirclePatternOptions::default()
+            };
+            let r = circle_pattern_map(mesh, &options, &mut Progress::none())?;
             let p = r.report;
             if !args.json {
                 println!(
-                    "circle-patterns: {} angle and {} radius Newton steps, circles closed to {:.1e}, {} non-Delaunay edges, largest angle change {:.2} deg",
+                    "circle-patterns: {} intrinsic flips, {} angle and {} radius Newton steps, circles closed to {:.1e}, {} non-Delaunay edges, largest angle change {:.2} deg, {} flipped triangles",
+                    p.intrinsic_flips,
                     p.angle_iterations,
                     p.radius_iterations,
                     p.closure_error,
                     p.non_delaunay_edges,
-                    p.max_angle_change.to_degrees()
+                    p.max_angle_change.to_degrees(),
+                    p.flipped_triangles
                 );
             }
-            let extra = serde_json::json!({"angle_iterations": p.angle_iterations, "radius_iterations": p.radius_iterations, "closure_error": p.closure_error, "non_delaunay_edges": p.non_delaunay_edges, "max_angle_change": p.max_angle_change});
+            let extra = serde_json::json!({"angle_iterations": p.angle_iterations, "radius_iterations": p.radius_iterations, "closure_error": p.closure_error, "non_delaunay_edges": p.non_delaunay_edges, "max_angle_change": p.max_angle_change, "intrinsic_flips": p.intrinsic_flips, "flipped_triangles": p.flipped_triangles});
             return Ok((r.uv, extra));
         }
         MethodName::IntrinsicOptimal => {

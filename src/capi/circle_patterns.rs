@@ -32,6 +32,10 @@ pub struct UvfCirclePatternOptions {
     pub progress: UvfProgressFn,
     /// Passed to `progress` unchanged.
     pub progress_user: *mut c_void,
+    /// 1: flip the edges to the intrinsic Delaunay triangulation of the mesh's metric first, as
+    /// the paper does (default); 0: enforce the Delaunay condition on the mesh's own edges,
+    /// which never flips a triangle but distorts the angles at non-Delaunay edges.
+    pub intrinsic_delaunay: u32,
 }
 
 impl Default for UvfCirclePatternOptions {
@@ -46,6 +50,7 @@ impl Default for UvfCirclePatternOptions {
             pin_uv: [0.0, 0.0, 1.0, 0.0],
             progress: None,
             progress_user: std::ptr::null_mut(),
+            intrinsic_delaunay: d.intrinsic_delaunay as u32,
         }
     }
 }
@@ -60,13 +65,19 @@ pub struct UvfCirclePatternReport {
     pub radius_iterations: u32,
     /// Largest |Σ φ − π| over the circles at the end (radians).
     pub closure_error: f64,
-    /// Interior edges whose 3D angles violate the Delaunay condition (the program moves them).
+    /// Interior edges of the triangulation used (after the intrinsic flips, if any) whose
+    /// angles violate the Delaunay condition (the program moves them).
     pub non_delaunay_edges: u32,
     /// Largest |α − β| between a planar and a 3D angle (radians).
     pub max_angle_change: f64,
+    /// Intrinsic edge flips made before the program.
+    pub intrinsic_flips: u32,
+    /// Mesh triangles whose uv area is not positive (always 0 with `intrinsic_delaunay` = 0).
+    pub flipped_triangles: u32,
 }
 
-/// Fills `options` with defaults (100 iterations, tolerance 1e-11, automatic pins, no callback).
+/// Fills `options` with defaults (100 iterations, tolerance 1e-11, automatic pins, no callback,
+/// intrinsic Delaunay flips on).
 ///
 /// # Safety
 /// `options` must be NULL or point to a writable struct.
@@ -78,13 +89,16 @@ pub unsafe extern "C" fn uvf_circle_pattern_options_default(options: *mut UvfCir
 }
 
 /// Conformal map by circle patterns (Kharevych, Springborn & Schröder 2006; course notes §4.4),
-/// free boundary: planar angles from the paper's quadratic program (closest to the 3D angles
-/// under the triangle and interior-vertex sums, positivity and the local Delaunay condition,
-/// solved by a log barrier), the intersection angles of the triangles' circumcircles from them,
-/// the log radii as the minimizer of the paper's convex energy (Newton), and the layout of the
-/// pattern's triangles. Every planar angle is in (0, π) and the angles close around every
-/// interior vertex, so no triangle is flipped. Not implemented: the paper's intrinsic Delaunay
-/// flips before the program, cone singularities and prescribed boundary curvature.
+/// free boundary: the edges flipped to the intrinsic Delaunay triangulation of the mesh's
+/// metric (paper §4; `intrinsic_delaunay`), planar angles from the paper's quadratic program
+/// (closest to the 3D angles under the triangle and interior-vertex sums, positivity and the
+/// local Delaunay condition, solved by a log barrier), the intersection angles of the
+/// triangles' circumcircles from them, the log radii as the minimizer of the paper's convex
+/// energy (Newton), and the layout of the pattern's triangles. Every planar angle of the
+/// pattern is in (0, π) and they close around every interior vertex; the mesh's triangles take
+/// their vertices' uv, so after intrinsic flips some may be flipped (counted in
+/// `flipped_triangles`; none without the flips). Not implemented: cone singularities and
+/// prescribed boundary curvature.
 ///
 /// Needs a connected genus-0 mesh with at least one boundary. `uv_out` receives 2 doubles per
 /// vertex (NaN for unreferenced ones); `options` and `report_out` may be NULL. Returns `UVF_OK`,
@@ -111,7 +125,18 @@ pub unsafe extern "C" fn uvf_circle_pattern_map(
         if o.max_iterations == 0 {
             return Err(Error::InvalidArgument("max_iterations must be at least 1".into()));
         }
-        let opts = CirclePatternOptions { pins, max_iterations: o.max_iterations, tolerance: o.tolerance };
+        if o.intrinsic_delaunay > 1 {
+            return Err(Error::InvalidArgument(format!(
+                "intrinsic_delaunay must be 0 or 1 (got {})",
+                o.intrinsic_delaunay
+            )));
+        }
+        let opts = CirclePatternOptions {
+            pins,
+            max_iterations: o.max_iterations,
+            tolerance: o.tolerance,
+            intrinsic_delaunay: o.intrinsic_delaunay == 1,
+        };
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         // Checked before the work so that a bad output pointer leaves everything untouched.
         borrow_slice_mut(uv_out, checked_count(vertex_count, 2, "uv")?, "uv_out")?;
@@ -127,6 +152,8 @@ pub unsafe extern "C" fn uvf_circle_pattern_map(
                 closure_error: r.closure_error,
                 non_delaunay_edges: r.non_delaunay_edges,
                 max_angle_change: r.max_angle_change,
+                intrinsic_flips: r.intrinsic_flips,
+                flipped_triangles: r.flipped_triangles,
             });
         }
         Ok(())

@@ -9,6 +9,7 @@
 pub mod connectivity;
 pub mod cut;
 pub mod fill;
+pub mod intrinsic_delaunay;
 pub mod topology;
 pub mod validate;
 

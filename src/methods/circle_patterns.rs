@@ -31,9 +31,15 @@
 //! equalities, t × 100 from 1 to 10⁸. Each corner is opposite one edge, so the Hessian is
 //! diagonal with 2×2 blocks (the two corners of an interior edge), and each step solves the
 //! Schur complement J H⁻¹ Jᵀ over triangles and interior vertices by sparse Cholesky.
-//! The paper also flips edges to an intrinsic Delaunay triangulation first, so that θ is
-//! conformally invariant; this implementation does not (the Delaunay condition is enforced on
-//! the mesh as given, which moves the angles of non-Delaunay edges away from their 3D values).
+//! As in the paper (§4), the edges are first flipped to an intrinsic Delaunay triangulation of
+//! the mesh's metric ([`crate::mesh::intrinsic_delaunay`], on by default), so that the 3D
+//! angles already meet the Delaunay condition and θ is a conformal invariant: the program then
+//! only moves the angles to flatten the vertices. The pattern is that of the flipped
+//! triangulation, whose vertices are the mesh's: the mesh's triangles take the uv of their
+//! vertices, which is no longer guaranteed to be free of flips (the flipped edges are straight
+//! in the plane, the mesh's own edges are not), so the report counts the mesh's flipped
+//! triangles. Without the flips the Delaunay condition is enforced on the mesh as given, which
+//! moves the angles of non-Delaunay edges away from their 3D values but never flips.
 //!
 //! The planar layout is the least-squares reconstruction from angles of ABF++
 //! ([`super::abf::reconstruct_uv`]), exact here because the angles are those of a planar
@@ -45,6 +51,7 @@ use super::conformal::{resolve_pins, Pin};
 use crate::error::{Error, Result};
 use crate::linalg::{lower_from_entries, CholeskyPattern, CholeskySolver};
 use crate::mesh::connectivity::prev;
+use crate::mesh::intrinsic_delaunay::{edge_lengths, intrinsic_delaunay};
 use crate::mesh::{TriMesh, NONE};
 use crate::progress::Progress;
 use faer::sparse::SparseColMat;
@@ -68,11 +75,14 @@ pub struct CirclePatternOptions {
     /// Stop the radii when every circle closes to within this angle (radians), or below 10⁻⁸
     /// when a Newton step no longer halves the largest gap (rounding).
     pub tolerance: f64,
+    /// Flip to the intrinsic Delaunay triangulation first (paper §4; default true). Off, the
+    /// map never flips a triangle but the non-Delaunay edges' angles are distorted.
+    pub intrinsic_delaunay: bool,
 }
 
 impl Default for CirclePatternOptions {
     fn default() -> Self {
-        CirclePatternOptions { pins: None, max_iterations: 100, tolerance: 1e-11 }
+        CirclePatternOptions { pins: None, max_iterations: 100, tolerance: 1e-11, intrinsic_delaunay: true }
     }
 }
 
@@ -85,10 +95,15 @@ pub struct CirclePatternReport {
     pub radius_iterations: u32,
     /// Largest |Σ φ − π| over the circles at the end.
     pub closure_error: f64,
-    /// Interior edges whose 3D angles violate the Delaunay condition (β_a + β_b ≥ π).
+    /// Interior edges of the triangulation used (after the flips, if any) whose angles in the
+    /// mesh's metric violate the Delaunay condition (β_a + β_b ≥ π − [`DELAUNAY_MARGIN`]).
     pub non_delaunay_edges: u32,
     /// Largest |α − β| of the planar angles (radians).
     pub max_angle_change: f64,
+    /// Intrinsic edge flips made before the program.
+    pub intrinsic_flips: u32,
+    /// Triangles of the mesh whose uv area is not positive (0 without intrinsic flips).
+    pub flipped_triangles: u32,
 }
 
 /// Circle-pattern parameterization: one uv per vertex (NaN for unreferenced vertices).
@@ -111,17 +126,19 @@ pub fn circle_pattern_map(
             options.tolerance
         )));
     }
-    let beta: Vec<f64> = mesh.corner_angles().iter().flatten().copied().collect();
-    let program = AngleProgram::new(mesh, &beta);
+    let surface = Triangulation::of(mesh, options.intrinsic_delaunay)?;
+    let work = &surface.mesh;
+    let beta: Vec<f64> = surface.angles.iter().flatten().copied().collect();
+    let program = AngleProgram::new(work, &beta);
     let (alpha, angle_iterations) = program.solve(options.max_iterations, progress)?;
     progress.report(0.6)?;
-    let theta = intersection_angles(mesh, &alpha);
-    let mut rho = circumradius_logs(mesh);
-    let radius_iterations = solve_radii(mesh, &theta, &mut rho, options, progress)?;
-    let phi = kite_angles(mesh, &theta, &rho);
+    let theta = intersection_angles(work, &alpha);
+    let mut rho = circumradius_logs(&surface.lengths, &surface.angles);
+    let radius_iterations = solve_radii(work, &theta, &mut rho, options, progress)?;
+    let phi = kite_angles(work, &theta, &rho);
     let closure_error = phi.iter().map(|p| (p.iter().sum::<f64>() - PI).abs()).fold(0.0, f64::max);
     let angles: Vec<[f64; 3]> = phi.iter().map(|p| [p[1], p[2], p[0]]).collect();
-    let uv = reconstruct_uv(mesh, &angles, pins)?;
+    let uv = reconstruct_uv(work, &angles, pins)?;
     progress.report(1.0)?;
     let report = CirclePatternReport {
         angle_iterations,
@@ -129,8 +146,45 @@ pub fn circle_pattern_map(
         closure_error,
         non_delaunay_edges: program.non_delaunay_edges(&beta),
         max_angle_change: alpha.iter().zip(&beta).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max),
+        intrinsic_flips: surface.flips,
+        flipped_triangles: flipped_triangles(mesh, &uv),
     };
     Ok(CirclePatternResult { uv, report })
+}
+
+/// The triangulation the pattern is built on, with its edge lengths and angles in the mesh's
+/// metric: the mesh itself, or its intrinsic Delaunay triangulation (same vertices).
+struct Triangulation {
+    mesh: TriMesh,
+    /// `lengths[t][k]`: half-edge 3t + k.
+    lengths: Vec<[f64; 3]>,
+    angles: Vec<[f64; 3]>,
+    flips: u32,
+}
+
+impl Triangulation {
+    fn of(mesh: &TriMesh, flip_to_delaunay: bool) -> Result<Self> {
+        if !flip_to_delaunay {
+            let lengths = edge_lengths(mesh);
+            let angles = mesh.corner_angles().to_vec();
+            return Ok(Triangulation { mesh: mesh.clone(), lengths, angles, flips: 0 });
+        }
+        let flipped = intrinsic_delaunay(mesh);
+        let angles = flipped.corner_angles();
+        // Same vertices, a simplicial manifold triangulation of the same surface: the
+        // connectivity checks pass; the 3D positions only order the sparse systems.
+        let work = TriMesh::from_checked(mesh.points().to_vec(), flipped.triangles)?;
+        Ok(Triangulation { mesh: work, lengths: flipped.lengths, angles, flips: flipped.flips })
+    }
+}
+
+/// Triangles of `mesh` whose uv signed area is not positive.
+fn flipped_triangles(mesh: &TriMesh, uv: &[[f64; 2]]) -> u32 {
+    let area = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|v| uv[v as usize]);
+        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    };
+    mesh.triangles().iter().filter(|t| !(area(t) > 0.0)).count() as u32
 }
 
 /// θ per half-edge (both half-edges of an interior edge get the same value): the sum of the
@@ -149,18 +203,10 @@ fn intersection_angles(mesh: &TriMesh, alpha: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// ln of the 3D circumradius of every triangle: the starting radii (exact for a flat
-/// Delaunay mesh).
-fn circumradius_logs(mesh: &TriMesh) -> Vec<f64> {
-    let p = mesh.points();
-    mesh.triangles()
-        .iter()
-        .zip(mesh.corner_angles())
-        .map(|(t, a)| {
-            let e = crate::geometry::distance(p[t[1] as usize], p[t[2] as usize]);
-            (e / (2.0 * a[0].sin())).ln()
-        })
-        .collect()
+/// ln of the circumradius of every triangle in the mesh's metric (law of sines on the edge
+/// opposite corner 0, half-edge 1): the starting radii (exact for a flat Delaunay mesh).
+fn circumradius_logs(lengths: &[[f64; 3]], angles: &[[f64; 3]]) -> Vec<f64> {
+    lengths.iter().zip(angles).map(|(l, a)| (l[1] / (2.0 * a[0].sin())).ln()).collect()
 }
 
 /// φ_f(x) = atan2(eˣ sin θ, 1 + eˣ cos θ) without overflow, and dφ_f/dx.
@@ -628,6 +674,12 @@ mod tests {
     /// A parallelogram of jittered equilateral triangles (every edge locally Delaunay) in
     /// the plane z = 0.
     fn jittered_lattice(n: usize, jitter: f64) -> (Vec<f64>, Vec<u32>) {
+        lattice(n, jitter, false)
+    }
+
+    /// A jittered triangular lattice (nearly equilateral triangles); with `long_diagonals` each
+    /// rhombus is split along its long diagonal instead, whose opposite angles are ≈ 120°.
+    fn lattice(n: usize, jitter: f64, long_diagonals: bool) -> (Vec<f64>, Vec<u32>) {
         let mut positions = Vec::new();
         for j in 0..=n {
             for i in 0..=n {
@@ -639,8 +691,13 @@ mod tests {
         let mut triangles = Vec::new();
         for j in 0..n {
             for i in 0..n {
-                triangles.extend([id(i, j), id(i + 1, j), id(i, j + 1)]);
-                triangles.extend([id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+                if long_diagonals {
+                    triangles.extend([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                    triangles.extend([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+                } else {
+                    triangles.extend([id(i, j), id(i + 1, j), id(i, j + 1)]);
+                    triangles.extend([id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+                }
             }
         }
         (positions, triangles)
@@ -673,7 +730,7 @@ mod tests {
         let mesh = TriMesh::new(&positions, &triangles).unwrap();
         let beta: Vec<f64> = mesh.corner_angles().iter().flatten().copied().collect();
         let theta = intersection_angles(&mesh, &beta);
-        let exact = circumradius_logs(&mesh);
+        let exact = circumradius_logs(&edge_lengths(&mesh), mesh.corner_angles());
         let mut rho: Vec<f64> =
             exact.iter().enumerate().map(|(f, r)| r + 0.7 * ((f * 37 % 17) as f64 / 8.0 - 1.0)).collect();
         let iterations =
@@ -696,5 +753,27 @@ mod tests {
         assert!(r.max_angle_change < 1e-6, "{r:?}");
         assert!(r.closure_error < 1e-10, "{r:?}");
         assert!(error < 1e-6, "similarity error {error}, {r:?}");
+    }
+
+    #[test]
+    fn flat_non_delaunay_mesh_is_its_own_parameterization_after_intrinsic_flips() {
+        // Every rhombus split along its long diagonal: the intrinsic Delaunay triangulation of a
+        // flat mesh is the planar Delaunay one (all n² diagonals flipped), whose angles are
+        // planar and Delaunay already, so the pattern is the mesh itself up to a similarity.
+        let n = 10;
+        let (positions, triangles) = lattice(n, 0.04, true);
+        let mesh = TriMesh::new(&positions, &triangles).unwrap();
+        let xy: Vec<[f64; 2]> = positions.chunks(3).map(|p| [p[0], p[1]]).collect();
+        let result = circle_pattern_map(&mesh, &CirclePatternOptions::default(), &mut Progress::none()).unwrap();
+        let r = result.report;
+        assert_eq!((r.intrinsic_flips, r.non_delaunay_edges, r.flipped_triangles), ((n * n) as u32, 0, 0), "{r:?}");
+        assert!(r.max_angle_change < 1e-6, "{r:?}");
+        let error = similarity_error(&xy, &result.uv);
+        assert!(error < 1e-6, "similarity error {error}, {r:?}");
+        // Without the flips the program must move the ≈ 120° angles below the Delaunay bound.
+        let options = CirclePatternOptions { intrinsic_delaunay: false, ..Default::default() };
+        let plain = circle_pattern_map(&mesh, &options, &mut Progress::none()).unwrap();
+        assert_eq!(plain.report.non_delaunay_edges, (n * n) as u32);
+        assert!(similarity_error(&xy, &plain.uv) > 1e-3);
     }
 }

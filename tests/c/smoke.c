@@ -355,14 +355,28 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
         UvfCirclePatternOptions circles;
         UvfCirclePatternReport circles_report;
         uvf_circle_pattern_options_default(&circles);
-        check(circles.struct_size == sizeof circles && circles.max_iterations > 0 && circles.pin_count == 0,
+        check(circles.struct_size == sizeof circles && circles.max_iterations > 0 && circles.pin_count == 0 &&
+                  circles.intrinsic_delaunay == 1,
               "circle pattern defaults");
         check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, &circles_report) == UVF_OK &&
                   circles_report.closure_error < 1e-9,
               "circle pattern map succeeds with every circle closed");
+        check(uvf_metrics(positions, nv, triangles, nt, uv, nv, NULL, &metrics) == UVF_OK &&
+                  metrics.flipped == circles_report.flipped_triangles && metrics.degenerate_uv == 0,
+              "circle pattern map reports its flipped triangles, none degenerate");
+        circles.intrinsic_delaunay = 0;
+        check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, &circles_report) == UVF_OK &&
+                  circles_report.intrinsic_flips == 0 && circles_report.flipped_triangles == 0,
+              "circle pattern map without intrinsic flips");
         check(uvf_metrics(positions, nv, triangles, nt, uv, nv, NULL, &metrics) == UVF_OK && metrics.flipped == 0 &&
                   metrics.degenerate_uv == 0,
-              "circle pattern map has no flipped or degenerate triangle");
+              "circle pattern map without intrinsic flips has no flipped or degenerate triangle");
+        circles.intrinsic_delaunay = 2;
+        uv[0] = 42.0;
+        check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, NULL) == UVF_INVALID_ARGUMENT &&
+                  uv[0] == 42.0,
+              "intrinsic_delaunay other than 0 or 1 refused, output untouched");
+        circles.intrinsic_delaunay = 1;
         circles.pin_count = 1;
         uv[0] = 42.0;
         check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, NULL) == UVF_INVALID_ARGUMENT &&

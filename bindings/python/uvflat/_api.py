@@ -725,10 +725,15 @@ class CirclePatternReport:
     radius_iterations: int
     #: Largest |Σ φ − π| over the circles (radians).
     closure_error: float
-    #: Interior edges whose 3D angles violate the Delaunay condition.
+    #: Interior edges of the triangulation used (after the intrinsic flips, if any) whose
+    #: angles violate the Delaunay condition.
     non_delaunay_edges: int
     #: Largest |α − β| between a planar and a 3D angle (radians).
     max_angle_change: float
+    #: Intrinsic edge flips made before the angle program.
+    intrinsic_flips: int
+    #: Mesh triangles whose uv area is not positive (always 0 without intrinsic flips).
+    flipped_triangles: int
 
 
 def circle_pattern_map(
@@ -738,18 +743,23 @@ def circle_pattern_map(
     pins: Optional[Pins] = None,
     max_iterations: Optional[int] = None,
     tolerance: Optional[float] = None,
+    intrinsic_delaunay: bool = True,
     progress: Optional[ProgressCallback] = None,
 ) -> Tuple[np.ndarray, CirclePatternReport]:
     """Conformal map by circle patterns (Kharevych, Springborn & Schröder 2006;
-    ``uvf_circle_pattern_map``), free boundary: planar angles from the paper's quadratic
-    program, the circumcircles' intersection angles, the log radii minimizing the paper's
-    convex energy, and their layout. No triangle is flipped. Without the paper's intrinsic
-    Delaunay flips; may raise :class:`NumericalFailure` where the barrier does not converge.
+    ``uvf_circle_pattern_map``), free boundary: the edges flipped to the intrinsic Delaunay
+    triangulation of the mesh's metric (as in the paper), planar angles from the paper's
+    quadratic program, the circumcircles' intersection angles, the log radii minimizing the
+    paper's convex energy, and their layout. The mesh's triangles take their vertices' uv, so
+    a few may flip after intrinsic flips (``report.flipped_triangles``); with
+    ``intrinsic_delaunay=False`` none does, but the angles at non-Delaunay edges are distorted.
+    May raise :class:`NumericalFailure` where the barrier or the radii do not converge.
 
     Args:
         pins: ``None`` (default: the two boundary vertices farthest apart at (0, 0) and (d, 0),
             d their 3D distance)
             or ``((v0, (u0, v0_)), (v1, (u1, v1_)))`` as for :func:`natural_conformal_map`.
+        intrinsic_delaunay: flip to the intrinsic Delaunay triangulation first (default).
 
     Returns:
         ``(uv, report)``: ``(n, 2)`` UVs and a :class:`CirclePatternReport`.
@@ -763,6 +773,7 @@ def circle_pattern_map(
         options.max_iterations = int(max_iterations)
     if tolerance is not None:
         options.tolerance = float(tolerance)
+    options.intrinsic_delaunay = 1 if intrinsic_delaunay else 0
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     uv = np.empty((len(p), 2), dtype=np.float64)

@@ -268,6 +268,7 @@ class UvfCirclePatternOptions(Structure):
         ("pin_uv", c_double * 4),
         ("progress", UvfProgressFn),
         ("progress_user", c_void_p),
+        ("intrinsic_delaunay", c_uint32),
     ]
 
 
@@ -280,6 +281,8 @@ class UvfCirclePatternReport(Structure):
         ("closure_error", c_double),
         ("non_delaunay_edges", c_uint32),
         ("max_angle_change", c_double),
+        ("intrinsic_flips", c_uint32),
+        ("flipped_triangles", c_uint32),
     ]
 
 
