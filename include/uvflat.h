@@ -692,6 +692,14 @@ typedef struct UvfCirclePatternOptions {
    * which never flips a triangle but distorts the angles at non-Delaunay edges.
    */
   uint32_t intrinsic_delaunay;
+  /**
+   * NULL (default): free boundary. Otherwise `vertex_count` doubles: the prescribed turning
+   * angle κ_v of the uv boundary at each boundary vertex (its uv angle sum is π − κ_v; 0 keeps
+   * the boundary straight there), NaN where the boundary is free; values at interior vertices
+   * are ignored. A fully prescribed boundary must sum to 2π (1 − holes) (Kharevych et al.
+   * 2006 §5). `uvf_circle_pattern_polygon_curvature` fills it for a convex polygon.
+   */
+  const double *boundary_curvature;
 } UvfCirclePatternOptions;
 
 /**
@@ -1789,8 +1797,9 @@ void uvf_circle_pattern_options_default(struct UvfCirclePatternOptions *options)
  * energy (Newton), and the layout of the pattern's triangles. Every planar angle of the
  * pattern is in (0, π) and they close around every interior vertex; the mesh's triangles take
  * their vertices' uv, so after intrinsic flips some may be flipped (counted in
- * `flipped_triangles`; none without the flips). Not implemented: cone singularities and
- * prescribed boundary curvature.
+ * `flipped_triangles`; none without the flips). The boundary is free, or its turning angles
+ * are prescribed where `boundary_curvature` says (paper §5; a straight-sided polygon with
+ * `uvf_circle_pattern_polygon_curvature`). Not implemented: cone singularities.
  *
  * Needs a connected genus-0 mesh with at least one boundary. `uv_out` receives 2 doubles per
  * vertex (NaN for unreferenced ones); `options` and `report_out` may be NULL. Returns `UVF_OK`,
@@ -1808,6 +1817,28 @@ enum UvfStatus uvf_circle_pattern_map(const double *positions,
                                       const struct UvfCirclePatternOptions *options,
                                       double *uv_out,
                                       struct UvfCirclePatternReport *report_out);
+
+/**
+ * Fills `curvature_out` (`vertex_count` doubles) with the boundary curvature that makes the
+ * longest boundary loop a convex polygon with the `corner_count` ≥ 3 given corner vertices:
+ * turning 2π / corner_count at each corner, 0 (straight) at the loop's other vertices, NaN
+ * (free) everywhere else. Four corners give a rectangle whose side lengths the map chooses.
+ * Pass the result as `UvfCirclePatternOptions::boundary_curvature`.
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (fewer than 3 corners, a corner twice or not on
+ * the longest loop, NULL arrays), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (no boundary),
+ * `UVF_INTERNAL_ERROR`. On failure `curvature_out` is untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_circle_pattern_polygon_curvature(const double *positions,
+                                                    size_t vertex_count,
+                                                    const uint32_t *triangles,
+                                                    size_t triangle_count,
+                                                    const uint32_t *corners,
+                                                    size_t corner_count,
+                                                    double *curvature_out);
 
 /**
  * Fills `options` with defaults (curvature-weighted edge length).

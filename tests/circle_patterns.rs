@@ -13,7 +13,7 @@ mod compiler;
 
 use cgal::{disk_meshes, read_plain_obj};
 use uvflat::error::Error;
-use uvflat::methods::circle_patterns::{circle_pattern_map, CirclePatternOptions};
+use uvflat::methods::circle_patterns::{circle_pattern_map, polygon_boundary_curvature, CirclePatternOptions};
 use uvflat::metrics::distortion;
 use uvflat::progress::Progress;
 use uvflat::{natural_conformal_map, TriMesh};
@@ -149,4 +149,74 @@ fn named_disk(name: &str) -> cgal::DiskMesh {
     let path = std::path::Path::new(cgal::MESH_DIR).join(format!("{name}.obj"));
     let faces = cgal::count_faces(&path).expect("read mesh");
     cgal::DiskMesh { name: name.into(), path, faces }
+}
+
+/// Turning angle of the uv boundary polygon at each vertex of `lp` (counter-clockwise loop).
+fn uv_turning(lp: &[u32], uv: &[[f64; 2]]) -> Vec<f64> {
+    let n = lp.len();
+    (0..n)
+        .map(|i| {
+            let [a, v, b] = [lp[(i + n - 1) % n], lp[i], lp[(i + 1) % n]].map(|x| uv[x as usize]);
+            let (d1, d2) = ([v[0] - a[0], v[1] - a[1]], [b[0] - v[0], b[1] - v[1]]);
+            (d1[0] * d2[1] - d1[1] * d2[0]).atan2(d1[0] * d2[0] + d1[1] * d2[1])
+        })
+        .collect()
+}
+
+#[test]
+fn four_corners_make_a_rectangle_with_straight_sides() {
+    // Paper §5: prescribing the boundary curvature (turning π/2 at four corners spread along
+    // the boundary, 0 elsewhere) maps the disk onto a rectangle: the uv boundary turns by
+    // exactly the prescribed angles at every boundary vertex.
+    println!("| mesh | triangles | corners | max turning error | flipped | angle distortion ° (free boundary) | s |");
+    println!("|---|--:|--:|--:|--:|--:|--:|");
+    let meshes = disk_meshes(max_faces()).expect("read ../shared/meshes");
+    let mut mapped = 0;
+    for disk in &meshes {
+        let (positions, triangles) = read_plain_obj(&disk.path).expect("read obj");
+        let mesh = TriMesh::new(&positions, &triangles).expect("valid mesh");
+        let lp = mesh.boundary_loops()[mesh.longest_boundary_loop().unwrap()].clone();
+        let corners: Vec<u32> = (0..4).map(|k| lp[k * lp.len() / 4]).collect();
+        let curvature = match polygon_boundary_curvature(&mesh, &corners) {
+            Ok(c) => c,
+            Err(Error::InvalidArgument(why)) if why.contains("single triangle") => {
+                println!("| {} | {} | refused: {why} |", disk.name, disk.faces);
+                continue;
+            }
+            Err(e) => panic!("{}: {e}", disk.name),
+        };
+        let options = CirclePatternOptions { boundary_curvature: Some(curvature.clone()), ..Default::default() };
+        let start = std::time::Instant::now();
+        let result = match circle_pattern_map(&mesh, &options, &mut Progress::none()) {
+            Ok(r) => r,
+            Err(e @ (Error::InvalidArgument(_) | Error::Numerical(_))) => {
+                println!("| {} | {} | refused: {e} |", disk.name, disk.faces);
+                continue;
+            }
+            Err(e) => panic!("{}: {e}", disk.name),
+        };
+        let seconds = start.elapsed().as_secs_f64();
+        mapped += 1;
+        let turning = uv_turning(&lp, &result.uv);
+        let worst = lp.iter().zip(&turning).map(|(v, t)| (t - curvature[*v as usize]).abs()).fold(0.0, f64::max);
+        let m = distortion(mesh.points(), mesh.triangles(), &result.uv, mesh.triangles()).expect("metrics");
+        let free =
+            circle_pattern_map(&mesh, &CirclePatternOptions::default(), &mut Progress::none()).expect("free map");
+        let f = distortion(mesh.points(), mesh.triangles(), &free.uv, mesh.triangles()).expect("metrics");
+        println!(
+            "| {} | {} | {} | {:.1e} | {} | {:.2} ({:.2}) | {:.2} |",
+            disk.name,
+            disk.faces,
+            corners.len(),
+            worst,
+            m.flipped,
+            m.angle_mean.to_degrees(),
+            f.angle_mean.to_degrees(),
+            seconds
+        );
+        assert!(worst < 1e-8, "{}: boundary turns {worst} away from the prescription", disk.name);
+        assert_eq!(result.report.flipped_triangles as usize, m.flipped, "{}", disk.name);
+        assert!(m.flipped * 1000 <= disk.faces, "{}: {} flipped", disk.name, m.flipped);
+    }
+    assert!(mapped >= 5, "{mapped} of {} meshes mapped onto a rectangle", meshes.len());
 }

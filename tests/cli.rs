@@ -236,6 +236,31 @@ fn circle_patterns_flip_to_intrinsic_delaunay_unless_told_not_to() {
     // Delaunay condition, so the planar angles stay closer to them.
     let change = |r: &serde_json::Value| r["max_angle_change"].as_f64().unwrap();
     assert!(change(&flipped) < change(&plain), "{flipped} {plain}");
+
+    // `--corner` four times: the written uv boundary is a rectangle (straight between corners).
+    let obj = uvflat::io::obj::read_obj(Path::new(SAMPLE)).unwrap();
+    let mesh = uvflat::TriMesh::new(&obj.positions, &obj.triangles).unwrap();
+    let lp = mesh.boundary_loops()[mesh.longest_boundary_loop().unwrap()].clone();
+    let corners: Vec<String> = (0..4).map(|k| lp[k * lp.len() / 4].to_string()).collect();
+    let mut args: Vec<&str> = Vec::new();
+    for c in &corners {
+        args.extend(["--corner", c.as_str()]);
+    }
+    let rectangle = run(&args);
+    assert_eq!(rectangle["method"], "circle-patterns", "{rectangle}");
+    let written = uvflat::io::obj::read_obj(&out).unwrap();
+    let uv = |v: u32| [written.uv[2 * v as usize], written.uv[2 * v as usize + 1]];
+    let (a, b, c) = (uv(lp[0]), uv(lp[1]), uv(lp[lp.len() / 4]));
+    let cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    let side = ((c[0] - a[0]).powi(2) + (c[1] - a[1]).powi(2)).sqrt();
+    // OBJ text keeps about 9 significant digits.
+    assert!(cross.abs() < 1e-6 * side * side, "vertex {} is off the side: {cross}", lp[1]);
+    let interior = (0..mesh.vertex_count() as u32).find(|&v| !mesh.is_boundary_vertex(v)).unwrap().to_string();
+    let mut bad = vec!["unwrap", SAMPLE, "-o", out.to_str().unwrap(), "--method", "circle-patterns"];
+    bad.extend(["--corner", &corners[0], "--corner", &corners[1], "--corner", &interior]);
+    let o = uvflat(&bad);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("not a vertex of the longest boundary loop"), "{}", stderr(&o));
 }
 
 #[test]
@@ -249,6 +274,7 @@ fn options_that_do_not_apply_are_usage_errors() {
         vec!["unwrap", SAMPLE, "-o", out, "--method", "tutte", "--lambda", "2"],
         vec!["unwrap", SAMPLE, "-o", out, "--method", "nonsense"],
         vec!["unwrap", SAMPLE, "-o", out, "--method", "abf", "--no-intrinsic-delaunay"],
+        vec!["unwrap", SAMPLE, "-o", out, "--corner", "1", "--corner", "2", "--corner", "3"],
     ] {
         let o = uvflat(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));

@@ -15,7 +15,7 @@ use uvflat::io::svg::write_uv_svg;
 use uvflat::mesh::cut::{cut_to_disk, total_edge_length, EdgeCost};
 use uvflat::methods::abf::{abf, AbfOptions, AbfVariant};
 use uvflat::methods::boundary_optimization::{boundary_optimized_map, BoundaryOptimizationOptions};
-use uvflat::methods::circle_patterns::{circle_pattern_map, CirclePatternOptions};
+use uvflat::methods::circle_patterns::{circle_pattern_map, polygon_boundary_curvature, CirclePatternOptions};
 use uvflat::methods::conformal::Pin;
 use uvflat::methods::length_area_distortion::DistortionEnergy;
 use uvflat::methods::near_optimal::{near_optimal_map, NearOptimalOptions};
@@ -285,6 +285,10 @@ struct UnwrapArgs {
     /// flipping to the intrinsic Delaunay triangulation first (never flips, more distortion).
     #[arg(long = "no-intrinsic-delaunay")]
     no_intrinsic_delaunay: bool,
+    /// circle-patterns: a corner of a straight-sided convex polygon (give at least 3, on the
+    /// longest boundary loop; 4 give a rectangle); default: free boundary.
+    #[arg(long = "corner")]
+    corners: Vec<u32>,
     /// Also draw the UV layout into this SVG file.
     #[arg(long)]
     svg: Option<PathBuf>,
@@ -1126,8 +1130,8 @@ fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
     if !optimizing && args.energy.is_some() {
         return Err(usage("--energy applies to --method intrinsic-optimal and boundary-optimized only"));
     }
-    if method != MethodName::CirclePatterns && args.no_intrinsic_delaunay {
-        return Err(usage("--no-intrinsic-delaunay applies to --method circle-patterns only"));
+    if method != MethodName::CirclePatterns && (args.no_intrinsic_delaunay || !args.corners.is_empty()) {
+        return Err(usage("--no-intrinsic-delaunay and --corner apply to --method circle-patterns only"));
     }
     Ok(())
 }
@@ -1201,8 +1205,11 @@ fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<(Vec<[f64; 2]>, serde
             return Ok((r.uv, extra));
         }
         MethodName::CirclePatterns => {
+            let boundary_curvature =
+                if args.corners.is_empty() { None } else { Some(polygon_boundary_curvature(mesh, &args.corners)?) };
             let options = CirclePatternOptions {
                 intrinsic_delaunay: !args.no_intrinsic_delaunay,
+                boundary_curvature,
                 ..CirclePatternOptions::default()
             };
             let r = circle_pattern_map(mesh, &options, &mut Progress::none())?;

@@ -1,10 +1,11 @@
 //! C ABI of the circle-pattern conformal map (`methods::circle_patterns`).
 
 use super::{
-    borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv, UvfProgressFn,
+    borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv,
+    UvfProgressFn,
 };
 use crate::error::{Error, UvfStatus};
-use crate::methods::circle_patterns::{circle_pattern_map, CirclePatternOptions};
+use crate::methods::circle_patterns::{circle_pattern_map, polygon_boundary_curvature, CirclePatternOptions};
 use crate::progress::Progress;
 use std::os::raw::c_void;
 
@@ -36,6 +37,12 @@ pub struct UvfCirclePatternOptions {
     /// the paper does (default); 0: enforce the Delaunay condition on the mesh's own edges,
     /// which never flips a triangle but distorts the angles at non-Delaunay edges.
     pub intrinsic_delaunay: u32,
+    /// NULL (default): free boundary. Otherwise `vertex_count` doubles: the prescribed turning
+    /// angle κ_v of the uv boundary at each boundary vertex (its uv angle sum is π − κ_v; 0 keeps
+    /// the boundary straight there), NaN where the boundary is free; values at interior vertices
+    /// are ignored. A fully prescribed boundary must sum to 2π (1 − holes) (Kharevych et al.
+    /// 2006 §5). `uvf_circle_pattern_polygon_curvature` fills it for a convex polygon.
+    pub boundary_curvature: *const f64,
 }
 
 impl Default for UvfCirclePatternOptions {
@@ -51,6 +58,7 @@ impl Default for UvfCirclePatternOptions {
             progress: None,
             progress_user: std::ptr::null_mut(),
             intrinsic_delaunay: d.intrinsic_delaunay as u32,
+            boundary_curvature: std::ptr::null(),
         }
     }
 }
@@ -97,8 +105,9 @@ pub unsafe extern "C" fn uvf_circle_pattern_options_default(options: *mut UvfCir
 /// energy (Newton), and the layout of the pattern's triangles. Every planar angle of the
 /// pattern is in (0, π) and they close around every interior vertex; the mesh's triangles take
 /// their vertices' uv, so after intrinsic flips some may be flipped (counted in
-/// `flipped_triangles`; none without the flips). Not implemented: cone singularities and
-/// prescribed boundary curvature.
+/// `flipped_triangles`; none without the flips). The boundary is free, or its turning angles
+/// are prescribed where `boundary_curvature` says (paper §5; a straight-sided polygon with
+/// `uvf_circle_pattern_polygon_curvature`). Not implemented: cone singularities.
 ///
 /// Needs a connected genus-0 mesh with at least one boundary. `uv_out` receives 2 doubles per
 /// vertex (NaN for unreferenced ones); `options` and `report_out` may be NULL. Returns `UVF_OK`,
@@ -131,13 +140,19 @@ pub unsafe extern "C" fn uvf_circle_pattern_map(
                 o.intrinsic_delaunay
             )));
         }
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let boundary_curvature = if o.boundary_curvature.is_null() {
+            None
+        } else {
+            Some(borrow_slice(o.boundary_curvature, vertex_count, "boundary_curvature")?.to_vec())
+        };
         let opts = CirclePatternOptions {
             pins,
             max_iterations: o.max_iterations,
             tolerance: o.tolerance,
             intrinsic_delaunay: o.intrinsic_delaunay == 1,
+            boundary_curvature,
         };
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         // Checked before the work so that a bad output pointer leaves everything untouched.
         borrow_slice_mut(uv_out, checked_count(vertex_count, 2, "uv")?, "uv_out")?;
         let mut callback = progress_closure(o.progress, o.progress_user);
@@ -156,6 +171,37 @@ pub unsafe extern "C" fn uvf_circle_pattern_map(
                 flipped_triangles: r.flipped_triangles,
             });
         }
+        Ok(())
+    })
+}
+
+/// Fills `curvature_out` (`vertex_count` doubles) with the boundary curvature that makes the
+/// longest boundary loop a convex polygon with the `corner_count` ≥ 3 given corner vertices:
+/// turning 2π / corner_count at each corner, 0 (straight) at the loop's other vertices, NaN
+/// (free) everywhere else. Four corners give a rectangle whose side lengths the map chooses.
+/// Pass the result as `UvfCirclePatternOptions::boundary_curvature`.
+///
+/// Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (fewer than 3 corners, a corner twice or not on
+/// the longest loop, NULL arrays), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (no boundary),
+/// `UVF_INTERNAL_ERROR`. On failure `curvature_out` is untouched.
+///
+/// # Safety
+/// The arrays must hold the stated number of elements.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_circle_pattern_polygon_curvature(
+    positions: *const f64,
+    vertex_count: usize,
+    triangles: *const u32,
+    triangle_count: usize,
+    corners: *const u32,
+    corner_count: usize,
+    curvature_out: *mut f64,
+) -> UvfStatus {
+    guard(|| {
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let corners = borrow_slice(corners, corner_count, "corners")?;
+        let out = borrow_slice_mut(curvature_out, vertex_count, "curvature_out")?;
+        out.copy_from_slice(&polygon_boundary_curvature(&mesh, corners)?);
         Ok(())
     })
 }

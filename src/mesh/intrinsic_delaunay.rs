@@ -42,7 +42,8 @@ pub struct IntrinsicTriangulation {
     pub twin: Vec<u32>,
     /// Edge flips made.
     pub flips: u32,
-    /// Interior edges left non-Delaunay (their flip would have joined two vertices twice).
+    /// Interior edges left non-Delaunay (their flip would have joined two vertices twice, or
+    /// left a boundary vertex in one triangle where that is not allowed).
     pub non_delaunay_edges: u32,
 }
 
@@ -90,7 +91,24 @@ fn opposite_cot(lengths: &[[f64; 3]], h: u32) -> f64 {
 /// would join two already joined vertices). O(E) flips in practice; each pops one edge and
 /// pushes the four around it.
 pub fn intrinsic_delaunay(mesh: &TriMesh) -> IntrinsicTriangulation {
+    flip_to_delaunay(mesh, false)
+}
+
+/// [`intrinsic_delaunay`], except that no flip leaves a boundary vertex in a single triangle
+/// (whose angle there would then have to be the whole boundary angle, near π on a smooth
+/// boundary): for callers that prescribe the boundary angles.
+pub fn intrinsic_delaunay_keeping_boundary_fans(mesh: &TriMesh) -> IntrinsicTriangulation {
+    flip_to_delaunay(mesh, true)
+}
+
+fn flip_to_delaunay(mesh: &TriMesh, keep_boundary_fans: bool) -> IntrinsicTriangulation {
     let triangles = mesh.triangles().to_vec();
+    let mut fan_size = vec![0u32; mesh.vertex_count()];
+    for v in triangles.iter().flatten() {
+        fan_size[*v as usize] += 1;
+    }
+    let thin_fan =
+        |v: u32, fan_size: &[u32]| keep_boundary_fans && mesh.is_boundary_vertex(v) && fan_size[v as usize] <= 2;
     let lengths = edge_lengths(mesh);
     let twin = mesh.connectivity().twin.clone();
     let mut tri = IntrinsicTriangulation { triangles, lengths, twin, flips: 0, non_delaunay_edges: 0 };
@@ -106,11 +124,16 @@ pub fn intrinsic_delaunay(mesh: &TriMesh) -> IntrinsicTriangulation {
             continue;
         }
         let (k, l) = (tri.tail(prev(h)), tri.tail(prev(tri.twin[h as usize])));
-        if k == l || edges.contains(&edge_key(k, l)) {
+        let (i, j) = (tri.tail(h), tri.tail(next(h)));
+        if k == l || edges.contains(&edge_key(k, l)) || thin_fan(i, &fan_size) || thin_fan(j, &fan_size) {
             continue;
         }
-        edges.remove(&edge_key(tri.tail(h), tri.tail(next(h))));
+        edges.remove(&edge_key(i, j));
         edges.insert(edge_key(k, l));
+        fan_size[i as usize] -= 1;
+        fan_size[j as usize] -= 1;
+        fan_size[k as usize] += 1;
+        fan_size[l as usize] += 1;
         stack.extend(tri.flip(h));
     }
     tri.non_delaunay_edges =

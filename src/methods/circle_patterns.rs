@@ -51,12 +51,15 @@ use super::conformal::{resolve_pins, Pin};
 use crate::error::{Error, Result};
 use crate::linalg::{lower_from_entries, CholeskyPattern, CholeskySolver};
 use crate::mesh::connectivity::prev;
-use crate::mesh::intrinsic_delaunay::{edge_lengths, intrinsic_delaunay};
+use crate::mesh::intrinsic_delaunay::{edge_lengths, intrinsic_delaunay, intrinsic_delaunay_keeping_boundary_fans};
 use crate::mesh::{TriMesh, NONE};
 use crate::progress::Progress;
 use faer::sparse::SparseColMat;
 use faer::Mat;
 use std::f64::consts::PI;
+
+mod boundary_curvature;
+pub use boundary_curvature::polygon_boundary_curvature;
 
 /// Smallest gap π − θ_e the angle program allows (radians): at θ = π the two circles
 /// coincide and the kite's weight sin θ / (2 (cosh x + cos θ)) runs to 0 or ∞.
@@ -78,11 +81,23 @@ pub struct CirclePatternOptions {
     /// Flip to the intrinsic Delaunay triangulation first (paper §4; default true). Off, the
     /// map never flips a triangle but the non-Delaunay edges' angles are distorted.
     pub intrinsic_delaunay: bool,
+    /// Prescribed boundary curvature (paper §5): one value per vertex, the turning angle κ_v
+    /// of the uv boundary at boundary vertex v (the uv angle sum there is π − κ_v; 0 keeps the
+    /// boundary straight), NaN where the boundary is free; ignored at interior vertices.
+    /// `None` (default): free boundary. [`polygon_boundary_curvature`] makes a convex polygon
+    /// with given corners.
+    pub boundary_curvature: Option<Vec<f64>>,
 }
 
 impl Default for CirclePatternOptions {
     fn default() -> Self {
-        CirclePatternOptions { pins: None, max_iterations: 100, tolerance: 1e-11, intrinsic_delaunay: true }
+        CirclePatternOptions {
+            pins: None,
+            max_iterations: 100,
+            tolerance: 1e-11,
+            intrinsic_delaunay: true,
+            boundary_curvature: None,
+        }
     }
 }
 
@@ -126,10 +141,13 @@ pub fn circle_pattern_map(
             options.tolerance
         )));
     }
-    let surface = Triangulation::of(mesh, options.intrinsic_delaunay)?;
+    let surface = Triangulation::of(mesh, options.intrinsic_delaunay, options.boundary_curvature.is_some())?;
     let work = &surface.mesh;
     let beta: Vec<f64> = surface.angles.iter().flatten().copied().collect();
-    let program = AngleProgram::new(work, &beta);
+    if let Some(curvature) = &options.boundary_curvature {
+        boundary_curvature::check(work, curvature)?;
+    }
+    let program = AngleProgram::new(work, &beta, options.boundary_curvature.as_deref());
     let (alpha, angle_iterations) = program.solve(options.max_iterations, progress)?;
     progress.report(0.6)?;
     let theta = intersection_angles(work, &alpha);
@@ -163,13 +181,16 @@ struct Triangulation {
 }
 
 impl Triangulation {
-    fn of(mesh: &TriMesh, flip_to_delaunay: bool) -> Result<Self> {
+    /// `prescribed_boundary`: the boundary angle sums will be prescribed, so no flip may leave
+    /// a boundary vertex in one triangle (its one angle would have to be the whole sum).
+    fn of(mesh: &TriMesh, flip_to_delaunay: bool, prescribed_boundary: bool) -> Result<Self> {
         if !flip_to_delaunay {
             let lengths = edge_lengths(mesh);
             let angles = mesh.corner_angles().to_vec();
             return Ok(Triangulation { mesh: mesh.clone(), lengths, angles, flips: 0 });
         }
-        let flipped = intrinsic_delaunay(mesh);
+        let flipped =
+            if prescribed_boundary { intrinsic_delaunay_keeping_boundary_fans(mesh) } else { intrinsic_delaunay(mesh) };
         let angles = flipped.corner_angles();
         // Same vertices, a simplicial manifold triangulation of the same surface: the
         // connectivity checks pass; the 3D positions only order the sparse systems.
@@ -368,10 +389,14 @@ struct AngleProgram {
     pairs: Vec<[u32; 2]>,
     /// For each corner, its pair, or NONE when it is opposite a boundary edge.
     pair_of: Vec<u32>,
-    /// Constraint row of each corner's interior vertex (after the triangle rows), or NONE.
+    /// Constraint row of each corner's vertex (after the triangle rows): interior vertices and
+    /// boundary vertices with a prescribed curvature; NONE for the others.
     vertex_row: Vec<u32>,
-    /// Number of constraint rows (triangles, then interior vertices).
+    /// Number of constraint rows (triangles, then constrained vertices).
     rows: usize,
+    /// Right-hand side of each row of J α = c: π per triangle, 2π per interior vertex,
+    /// π − κ_v per boundary vertex with a prescribed curvature κ_v.
+    targets: Vec<f64>,
     /// 3D position of each constraint row (triangle centroid, vertex), for the ordering.
     row_points: Vec<[f64; 3]>,
 }
@@ -381,17 +406,9 @@ fn delaunay_slack(a: f64, b: f64) -> f64 {
     PI - DELAUNAY_MARGIN - a - b
 }
 
-/// Right-hand side of the equality constraints J α = c.
-fn constraint_target(row: usize, triangles: usize) -> f64 {
-    if row < triangles {
-        PI
-    } else {
-        2.0 * PI
-    }
-}
-
 impl AngleProgram {
-    fn new(mesh: &TriMesh, beta: &[f64]) -> Self {
+    /// `curvature`: per vertex, the boundary curvature to prescribe (NaN: free), or `None`.
+    fn new(mesh: &TriMesh, beta: &[f64], curvature: Option<&[f64]>) -> Self {
         let twin = &mesh.connectivity().twin;
         let corners = beta.len();
         let mut pairs = Vec::new();
@@ -406,21 +423,44 @@ impl AngleProgram {
         }
         let triangles = mesh.triangle_count();
         let mut row_points = triangle_centroids(mesh);
+        let mut targets = vec![PI; triangles];
         let mut row_of_vertex = vec![NONE; mesh.vertex_count()];
+        let prescribed = |v: u32| curvature.map(|c| c[v as usize]).filter(|k| !k.is_nan());
+        // With every boundary vertex prescribed, the vertex rows add up to the triangle rows
+        // (each corner is in one of each): one row is implied (by Gauss–Bonnet, checked by
+        // `boundary_curvature::check`) and left out, or J Jᵀ would be singular.
+        let implied = mesh.boundary_loops().iter().flatten().all(|&v| prescribed(v).is_some());
+        let mut skip = mesh.boundary_loops().first().and_then(|lp| lp.first().copied()).filter(|_| implied);
         for v in 0..mesh.vertex_count() as u32 {
-            if mesh.is_referenced(v) && !mesh.is_boundary_vertex(v) {
-                row_of_vertex[v as usize] = row_points.len() as u32;
-                row_points.push(mesh.points()[v as usize]);
-            }
+            let target = match (mesh.is_referenced(v), mesh.is_boundary_vertex(v)) {
+                (false, _) => continue,
+                (true, false) => 2.0 * PI,
+                (true, true) => match prescribed(v) {
+                    Some(_) if skip == Some(v) => {
+                        skip = None;
+                        continue;
+                    }
+                    Some(k) => PI - k,
+                    None => continue,
+                },
+            };
+            row_of_vertex[v as usize] = row_points.len() as u32;
+            row_points.push(mesh.points()[v as usize]);
+            targets.push(target);
         }
         let vertex_row = mesh.triangles().iter().flat_map(|t| t.map(|v| row_of_vertex[v as usize])).collect::<Vec<_>>();
         let weight = beta.iter().map(|b| 1.0 / b.max(1e-6).powi(2)).collect();
         debug_assert_eq!(beta.len(), 3 * triangles);
-        AngleProgram { beta: beta.to_vec(), weight, pairs, pair_of, vertex_row, rows: row_points.len(), row_points }
-    }
-
-    fn triangles(&self) -> usize {
-        self.beta.len() / 3
+        AngleProgram {
+            beta: beta.to_vec(),
+            weight,
+            pairs,
+            pair_of,
+            vertex_row,
+            rows: row_points.len(),
+            targets,
+            row_points,
+        }
     }
 
     fn non_delaunay_edges(&self, beta: &[f64]) -> u32 {
@@ -543,9 +583,7 @@ impl AngleProgram {
         let g = self.gradient(t, alpha);
         let inv = self.inverse_blocks(t, alpha);
         let hg = self.apply_inverse(&inv, &g);
-        let triangles = self.triangles();
-        let residual: Vec<f64> =
-            self.apply_j(alpha).iter().enumerate().map(|(r, x)| x - constraint_target(r, triangles)).collect();
+        let residual: Vec<f64> = self.apply_j(alpha).iter().zip(&self.targets).map(|(x, c)| x - c).collect();
         let jhg = self.apply_j(&hg);
         let (diag, entries) = self.schur(&inv);
         let lower = lower_from_entries(&diag, entries)?;
@@ -621,6 +659,12 @@ impl AngleProgram {
         }
         if !self.slacks_positive(&alpha) {
             return Err(Error::Numerical("circle pattern angles left the feasible region".into()));
+        }
+        let residual = self.apply_j(&alpha).iter().zip(&self.targets).map(|(x, c)| (x - c).abs()).fold(0.0, f64::max);
+        if !(residual < 1e-9) {
+            return Err(Error::Numerical(format!(
+                "circle pattern angles miss their sums by {residual:.1e} rad (the prescribed boundary curvature may be infeasible)"
+            )));
         }
         Ok((alpha, iterations))
     }
@@ -775,5 +819,71 @@ mod tests {
         let plain = circle_pattern_map(&mesh, &options, &mut Progress::none()).unwrap();
         assert_eq!(plain.report.non_delaunay_edges, (n * n) as u32);
         assert!(similarity_error(&xy, &plain.uv) > 1e-3);
+    }
+
+    /// Turning angle of the closed polygon `lp` of `xy` at each of its vertices.
+    fn turning(lp: &[u32], xy: &[[f64; 2]]) -> Vec<f64> {
+        let n = lp.len();
+        (0..n)
+            .map(|i| {
+                let [a, v, b] = [lp[(i + n - 1) % n], lp[i], lp[(i + 1) % n]].map(|x| xy[x as usize]);
+                let (d1, d2) = ([v[0] - a[0], v[1] - a[1]], [b[0] - v[0], b[1] - v[1]]);
+                (d1[0] * d2[1] - d1[1] * d2[0]).atan2(d1[0] * d2[0] + d1[1] * d2[1])
+            })
+            .collect()
+    }
+
+    #[test]
+    fn prescribing_a_flat_meshs_own_boundary_curvature_gives_the_mesh_back() {
+        let (positions, triangles) = jittered_lattice(10, 0.06);
+        let mesh = TriMesh::new(&positions, &triangles).unwrap();
+        let xy: Vec<[f64; 2]> = positions.chunks(3).map(|p| [p[0], p[1]]).collect();
+        let lp = &mesh.boundary_loops()[0];
+        let mut curvature = vec![f64::NAN; mesh.vertex_count()];
+        for (v, k) in lp.iter().zip(turning(lp, &xy)) {
+            curvature[*v as usize] = k;
+        }
+        let options = CirclePatternOptions { boundary_curvature: Some(curvature.clone()), ..Default::default() };
+        let result = circle_pattern_map(&mesh, &options, &mut Progress::none()).unwrap();
+        assert!(similarity_error(&xy, &result.uv) < 1e-6, "{:?}", result.report);
+        // Straight sides and four right angles instead: a rectangle, exactly.
+        let corners: Vec<u32> = (0..4).map(|k| lp[k * lp.len() / 4]).collect();
+        let square = polygon_boundary_curvature(&mesh, &corners).unwrap();
+        let options = CirclePatternOptions { boundary_curvature: Some(square.clone()), ..Default::default() };
+        let result = circle_pattern_map(&mesh, &options, &mut Progress::none()).unwrap();
+        for (v, k) in lp.iter().zip(turning(lp, &result.uv)) {
+            assert!((k - square[*v as usize]).abs() < 1e-9, "vertex {v} turns by {k}");
+        }
+    }
+
+    #[test]
+    fn infeasible_boundary_curvature_is_refused() {
+        let (positions, triangles) = jittered_lattice(6, 0.06);
+        let mesh = TriMesh::new(&positions, &triangles).unwrap();
+        let lp = mesh.boundary_loops()[0].clone();
+        let run = |curvature: Vec<f64>| {
+            let options = CirclePatternOptions { boundary_curvature: Some(curvature), ..Default::default() };
+            circle_pattern_map(&mesh, &options, &mut Progress::none())
+        };
+        let invalid = |r: Result<CirclePatternResult>| matches!(r, Err(Error::InvalidArgument(_)));
+        // Gauss–Bonnet: a fully prescribed disk boundary must turn by 2π in all.
+        let mut curvature = vec![f64::NAN; mesh.vertex_count()];
+        for &v in &lp {
+            curvature[v as usize] = 2.0 * PI / lp.len() as f64 * 1.01;
+        }
+        assert!(invalid(run(curvature.clone())));
+        // An angle sum of π − κ ≤ 0 at a vertex.
+        curvature.iter_mut().for_each(|k| *k = f64::NAN);
+        curvature[lp[0] as usize] = 4.0;
+        assert!(invalid(run(curvature.clone())));
+        curvature[lp[0] as usize] = f64::INFINITY;
+        assert!(invalid(run(curvature)));
+        assert!(invalid(run(vec![0.0; 3])));
+        // Polygons: at least 3 corners, each once, on the boundary.
+        assert!(matches!(polygon_boundary_curvature(&mesh, &lp[..2]), Err(Error::InvalidArgument(_))));
+        assert!(matches!(polygon_boundary_curvature(&mesh, &[lp[0], lp[1], lp[0]]), Err(Error::InvalidArgument(_))));
+        let interior = (0..mesh.vertex_count() as u32).find(|&v| !mesh.is_boundary_vertex(v)).unwrap();
+        assert!(matches!(polygon_boundary_curvature(&mesh, &[lp[0], lp[3], interior]), Err(Error::InvalidArgument(_))));
+        assert!(matches!(polygon_boundary_curvature(&mesh, &[lp[0], lp[3], 10_000]), Err(Error::InvalidArgument(_))));
     }
 }

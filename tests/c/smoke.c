@@ -377,6 +377,33 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
                   uv[0] == 42.0,
               "intrinsic_delaunay other than 0 or 1 refused, output untouched");
         circles.intrinsic_delaunay = 1;
+        {
+            /* The grid's four corners as the corners of a rectangle: straight sides. */
+            static double curvature[N * N];
+            uint32_t corners[4] = {0, N - 1, N * N - 1, N * (N - 1)};
+            double cross;
+            check(uvf_circle_pattern_polygon_curvature(positions, nv, triangles, nt, corners, 4, curvature) == UVF_OK &&
+                      fabs(curvature[0] - 3.14159265358979 / 2) < 1e-12 && curvature[1] == 0.0 &&
+                      isnan(curvature[N + 1]),
+                  "polygon curvature: pi/2 at the corners, 0 along the boundary, NaN inside");
+            circles.boundary_curvature = curvature;
+            check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, &circles_report) == UVF_OK &&
+                      circles_report.closure_error < 1e-9,
+                  "circle pattern map onto a rectangle");
+            cross = (uv[2] - uv[0]) * (uv[5] - uv[1]) - (uv[3] - uv[1]) * (uv[4] - uv[0]);
+            check(fabs(cross) < 1e-9 * ((uv[4] - uv[0]) * (uv[4] - uv[0]) + (uv[5] - uv[1]) * (uv[5] - uv[1])),
+                  "rectangle side through vertices 0, 1, 2 is straight");
+            curvature[1] = 0.5; /* the boundary no longer turns by 2 pi in all */
+            uv[0] = 42.0;
+            check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, NULL) == UVF_INVALID_ARGUMENT &&
+                      uv[0] == 42.0,
+                  "boundary curvature against Gauss-Bonnet refused, output untouched");
+            corners[3] = N + 1; /* interior vertex */
+            check(uvf_circle_pattern_polygon_curvature(positions, nv, triangles, nt, corners, 4, curvature) ==
+                      UVF_INVALID_ARGUMENT,
+                  "polygon corner off the boundary refused");
+            circles.boundary_curvature = NULL;
+        }
         circles.pin_count = 1;
         uv[0] = 42.0;
         check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, NULL) == UVF_INVALID_ARGUMENT &&

@@ -118,7 +118,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 78, sorted(functions)
+    assert len(functions) == 79, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -1281,6 +1281,32 @@ def test_circle_pattern_map_flips_to_intrinsic_delaunay_ignores_rigid_motion_and
         uvflat.circle_pattern_map(p, t, progress=lambda fraction: False)
     with pytest.raises(uvflat.InvalidArgument):
         uvflat.circle_pattern_map(p, t, max_iterations=0)
+
+
+def test_circle_pattern_map_onto_a_rectangle_by_prescribed_boundary_curvature():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    loop = max(uvflat.boundary_loops(p, t), key=len)
+    corners = loop[[0, len(loop) // 4, len(loop) // 2, 3 * len(loop) // 4]]
+    uv, report = uvflat.circle_pattern_map(p, t, corners=corners)
+    assert report.closure_error < 1e-9
+    # The uv boundary turns by π/2 at the four corners and not at all elsewhere.
+    a, v, b = uv[np.roll(loop, 1)], uv[loop], uv[np.roll(loop, -1)]
+    d1, d2 = v - a, b - v
+    turning = np.arctan2(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0], (d1 * d2).sum(axis=1))
+    expected = np.where(np.isin(loop, corners), np.pi / 2, 0.0)
+    assert np.abs(turning - expected).max() < 1e-8
+    curvature = uvflat.polygon_boundary_curvature(p, t, corners)
+    assert np.isnan(curvature).sum() == len(p) - len(loop)
+    same, _ = uvflat.circle_pattern_map(p, t, boundary_curvature=curvature)
+    assert np.array_equal(same, uv)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.circle_pattern_map(p, t, corners=corners, boundary_curvature=curvature)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.circle_pattern_map(p, t, boundary_curvature=curvature[:-1])
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.polygon_boundary_curvature(p, t, corners[:2])
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.circle_pattern_map(p, t, boundary_curvature=np.where(np.isnan(curvature), np.nan, 0.1))
 
 
 def test_quadcover_gives_integer_seams_and_cones_and_checks_its_input():

@@ -744,6 +744,8 @@ def circle_pattern_map(
     max_iterations: Optional[int] = None,
     tolerance: Optional[float] = None,
     intrinsic_delaunay: bool = True,
+    boundary_curvature: Optional[ArrayLike] = None,
+    corners: Optional[ArrayLike] = None,
     progress: Optional[ProgressCallback] = None,
 ) -> Tuple[np.ndarray, CirclePatternReport]:
     """Conformal map by circle patterns (Kharevych, Springborn & Schröder 2006;
@@ -760,6 +762,12 @@ def circle_pattern_map(
             d their 3D distance)
             or ``((v0, (u0, v0_)), (v1, (u1, v1_)))`` as for :func:`natural_conformal_map`.
         intrinsic_delaunay: flip to the intrinsic Delaunay triangulation first (default).
+        boundary_curvature: ``None`` (free boundary, default) or ``(n,)`` floats: the turning
+            angle of the uv boundary at each boundary vertex (its uv angle sum is π − κ; 0 keeps
+            the boundary straight), NaN where it is free; ignored at interior vertices. A fully
+            prescribed boundary must sum to 2π (1 − holes).
+        corners: instead of ``boundary_curvature``, the corner vertices of a convex polygon
+            with straight sides (see :func:`polygon_boundary_curvature`; 4 give a rectangle).
 
     Returns:
         ``(uv, report)``: ``(n, 2)`` UVs and a :class:`CirclePatternReport`.
@@ -774,6 +782,15 @@ def circle_pattern_map(
     if tolerance is not None:
         options.tolerance = float(tolerance)
     options.intrinsic_delaunay = 1 if intrinsic_delaunay else 0
+    if corners is not None:
+        if boundary_curvature is not None:
+            raise InvalidArgument("give boundary_curvature or corners, not both")
+        boundary_curvature = polygon_boundary_curvature(p, t, corners)
+    if boundary_curvature is not None:
+        curvature = np.require(np.asarray(boundary_curvature, dtype=np.float64), requirements=["C", "A"])
+        if curvature.shape != (len(p),):
+            raise InvalidArgument(f"boundary_curvature must have shape ({len(p)},), not {curvature.shape}")
+        options.boundary_curvature = _f64p(curvature)
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     uv = np.empty((len(p), 2), dtype=np.float64)
@@ -781,6 +798,21 @@ def circle_pattern_map(
     lib = L.library()
     bridge.run(lambda: lib.uvf_circle_pattern_map(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(uv), byref(report)))
     return uv, _from_struct(CirclePatternReport, report)
+
+
+def polygon_boundary_curvature(positions: ArrayLike, triangles: ArrayLike, corners: ArrayLike) -> np.ndarray:
+    """Boundary curvature (``uvf_circle_pattern_polygon_curvature``) that makes the longest
+    boundary loop a convex polygon with the given k ≥ 3 corner vertices: turning 2π / k at each
+    corner, 0 (straight) at the loop's other vertices, NaN (free) elsewhere. For the
+    ``boundary_curvature`` of :func:`circle_pattern_map`. Raises :class:`InvalidArgument` when a
+    corner is not on that loop or is given twice, or when a boundary vertex in a single
+    triangle is not a corner (no straight side can pass through it).
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    c = _as_indices(corners, "corners", InvalidArgument, None, "corner {value} (entry {row}) {reason}")
+    out = np.empty(len(p), dtype=np.float64)
+    _check(L.library().uvf_circle_pattern_polygon_curvature(_f64p(p), len(p), _u32p(t), len(t), _u32p(c), len(c), _f64p(out)))
+    return out
 
 
 @dataclasses.dataclass(frozen=True)

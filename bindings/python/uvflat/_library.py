@@ -269,6 +269,7 @@ class UvfCirclePatternOptions(Structure):
         ("progress", UvfProgressFn),
         ("progress_user", c_void_p),
         ("intrinsic_delaunay", c_uint32),
+        ("boundary_curvature", POINTER(c_double)),
     ]
 
 
@@ -651,6 +652,7 @@ PROTOTYPES = {
         UvfStatus,
         [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfCirclePatternOptions), _f64p, POINTER(UvfCirclePatternReport)],
     ),
+    "uvf_circle_pattern_polygon_curvature": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, _u32p, c_size_t, _f64p]),
     "uvf_quadcover_options_default": (None, [POINTER(UvfQuadCoverOptions)]),
     "uvf_quadcover": (
         UvfStatus,
