@@ -1799,7 +1799,7 @@ void uvf_circle_pattern_options_default(struct UvfCirclePatternOptions *options)
  * their vertices' uv, so after intrinsic flips some may be flipped (counted in
  * `flipped_triangles`; none without the flips). The boundary is free, or its turning angles
  * are prescribed where `boundary_curvature` says (paper §5; a straight-sided polygon with
- * `uvf_circle_pattern_polygon_curvature`). Not implemented: cone singularities.
+ * `uvf_circle_pattern_polygon_curvature`). Cone singularities: `uvf_circle_pattern_cone_map`.
  *
  * Needs a connected genus-0 mesh with at least one boundary. `uv_out` receives 2 doubles per
  * vertex (NaN for unreferenced ones); `options` and `report_out` may be NULL. Returns `UVF_OK`,
@@ -1817,6 +1817,39 @@ enum UvfStatus uvf_circle_pattern_map(const double *positions,
                                       const struct UvfCirclePatternOptions *options,
                                       double *uv_out,
                                       struct UvfCirclePatternReport *report_out);
+
+/**
+ * Conformal map with cone singularities by circle patterns (Kharevych, Springborn & Schröder
+ * 2006 §5), for a connected mesh of any genus, closed or with boundary: cone `i` sits at
+ * interior vertex `cone_vertices[i]` with curvature `cone_curvature[i]` (2π minus the cone
+ * angle, radians; π/2 for a cube corner); the other interior vertices are flat. On a closed
+ * mesh the curvatures must sum to 2π χ (4π on a sphere; none needed on a torus:
+ * `cone_count` = 0). The mesh is cut through the cones (and its handles), flipped to its
+ * intrinsic Delaunay triangulation keeping the cut (with `options->intrinsic_delaunay`), the
+ * pattern solved as by `uvf_circle_pattern_map`, and laid out per corner: the two sides of
+ * every seam are congruent, and the uv angles around each cone sum to its cone angle.
+ *
+ * `corner_uv_out` receives 6 doubles per triangle (u, v of corners 0, 1, 2); `options` must
+ * have `pin_count` 0 (the map is placed by the two farthest boundary vertices of the opened
+ * mesh); `options->boundary_curvature` applies to the mesh's own boundary. Returns `UVF_OK`,
+ * `UVF_INVALID_ARGUMENT` (a cone off the interior or given twice, curvatures against
+ * Gauss–Bonnet, pins), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (several components),
+ * `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
+ * untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_circle_pattern_cone_map(const double *positions,
+                                           size_t vertex_count,
+                                           const uint32_t *triangles,
+                                           size_t triangle_count,
+                                           const uint32_t *cone_vertices,
+                                           const double *cone_curvature,
+                                           size_t cone_count,
+                                           const struct UvfCirclePatternOptions *options,
+                                           double *corner_uv_out,
+                                           struct UvfCirclePatternReport *report_out);
 
 /**
  * Fills `curvature_out` (`vertex_count` doubles) with the boundary curvature that makes the

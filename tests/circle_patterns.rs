@@ -13,7 +13,9 @@ mod compiler;
 
 use cgal::{disk_meshes, read_plain_obj};
 use uvflat::error::Error;
-use uvflat::methods::circle_patterns::{circle_pattern_map, polygon_boundary_curvature, CirclePatternOptions};
+use uvflat::methods::circle_patterns::{
+    circle_pattern_cone_map, circle_pattern_map, polygon_boundary_curvature, CirclePatternOptions, ConeMapResult,
+};
 use uvflat::metrics::distortion;
 use uvflat::progress::Progress;
 use uvflat::{natural_conformal_map, TriMesh};
@@ -219,4 +221,114 @@ fn four_corners_make_a_rectangle_with_straight_sides() {
         assert!(m.flipped * 1000 <= disk.faces, "{}: {} flipped", disk.name, m.flipped);
     }
     assert!(mapped >= 5, "{mapped} of {} meshes mapped onto a rectangle", meshes.len());
+}
+
+/// `count` vertices spread over the mesh by farthest-point sampling (3D distance), from vertex 0.
+fn spread_vertices(mesh: &TriMesh, count: usize) -> Vec<u32> {
+    let p = mesh.points();
+    let d = |a: u32, b: u32| {
+        let (x, y) = (p[a as usize], p[b as usize]);
+        ((x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2) + (x[2] - y[2]).powi(2)).sqrt()
+    };
+    let interior: Vec<u32> =
+        (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_referenced(v) && !mesh.is_boundary_vertex(v)).collect();
+    let mut chosen = vec![interior[0]];
+    while chosen.len() < count {
+        let next = *interior
+            .iter()
+            .max_by(|&&a, &&b| {
+                let da = chosen.iter().map(|&c| d(a, c)).fold(f64::INFINITY, f64::min);
+                let db = chosen.iter().map(|&c| d(b, c)).fold(f64::INFINITY, f64::min);
+                da.total_cmp(&db)
+            })
+            .unwrap();
+        chosen.push(next);
+    }
+    chosen
+}
+
+/// Checks a cone map: circles closed, (almost) no flipped triangle, both sides of every seam edge
+/// congruent (the same uv length), and the uv angles around each cone summing to its cone
+/// angle 2π − κ. Returns the largest seam length mismatch and cone angle error.
+fn check_cone_map(name: &str, mesh: &TriMesh, cones: &[(u32, f64)], result: &ConeMapResult) -> (f64, f64) {
+    let r = result.report;
+    assert!(r.closure_error < 1e-9, "{name}: {r:?}");
+    // The input's triangles take the uv of the flipped triangulation's vertices (see the disk
+    // tests): at most one in 1000 may flip.
+    assert!(r.flipped_triangles as usize * 1000 <= mesh.triangle_count(), "{name}: {r:?}");
+    let mut lengths: std::collections::HashMap<[u32; 2], Vec<f64>> = Default::default();
+    let seams: std::collections::HashSet<[u32; 2]> = result.seams.iter().copied().collect();
+    let mut cone_sum = vec![0.0; mesh.vertex_count()];
+    for (tri, uv) in mesh.triangles().iter().zip(&result.corner_uv) {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            let key = [a.min(b), a.max(b)];
+            let (p, q, o) = (uv[k], uv[(k + 1) % 3], uv[(k + 2) % 3]);
+            if seams.contains(&key) {
+                lengths.entry(key).or_default().push(((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt());
+            }
+            let (e1, e2) = ([q[0] - p[0], q[1] - p[1]], [o[0] - p[0], o[1] - p[1]]);
+            cone_sum[a as usize] += (e1[0] * e2[1] - e1[1] * e2[0]).atan2(e1[0] * e2[0] + e1[1] * e2[1]);
+        }
+    }
+    let seam_error = lengths.values().map(|l| (l[0] - l[1]).abs() / l[0].max(l[1])).fold(0.0, f64::max);
+    assert_eq!(lengths.len(), result.seams.len(), "{name}");
+    let cone_error =
+        cones.iter().map(|&(v, k)| (cone_sum[v as usize] - (2.0 * std::f64::consts::PI - k)).abs()).fold(0.0, f64::max);
+    (seam_error, cone_error)
+}
+
+#[test]
+fn cone_maps_of_closed_meshes_have_congruent_seams_and_the_prescribed_cone_angles() {
+    // Sphere-like meshes with 8 cones of π/2 (Gauss–Bonnet: 8 · π/2 = 4π, a cube's corners)
+    // and the tori with none (Σ κ = 2π χ = 0): a flat metric with cones, cut open through them.
+    // The properties checked are those of a cone metric laid out after cutting: both sides of
+    // every seam have the same length, and the angles around each cone add up to its angle.
+    use std::f64::consts::PI;
+    println!("| mesh | triangles | cones | seam edges | seam length mismatch | cone angle error | flipped | angle distortion ° | s |");
+    println!("|---|--:|--:|--:|--:|--:|--:|--:|--:|");
+    // Also a disk with two cones (free boundary) and a genus-3 surface with four saddles of
+    // −2π each (Σ κ = 2π χ = −8π; cone angle 4π).
+    let cases = [
+        ("closed_g0_spot", 8, PI / 2.0),
+        ("closed_g0_bunny", 8, PI / 2.0),
+        ("closed_g1_torus", 0, 0.0),
+        ("closed_g1_knot", 0, 0.0),
+        ("disk_mushroom", 2, PI / 2.0),
+        ("closed_g3_triple_torus", 4, -2.0 * PI),
+    ];
+    for (name, cone_count, curvature) in cases {
+        let path = std::path::Path::new(cgal::MESH_DIR).join(format!("{name}.obj"));
+        let (positions, triangles) = read_plain_obj(&path).expect("read mesh");
+        let mesh = TriMesh::new(&positions, &triangles).expect("valid mesh");
+        let cones: Vec<(u32, f64)> =
+            spread_vertices(&mesh, cone_count.max(1)).into_iter().take(cone_count).map(|v| (v, curvature)).collect();
+        let start = std::time::Instant::now();
+        let result = circle_pattern_cone_map(&mesh, &cones, &CirclePatternOptions::default(), &mut Progress::none())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let seconds = start.elapsed().as_secs_f64();
+        let (seam_error, cone_error) = check_cone_map(name, &mesh, &cones, &result);
+        let flat: Vec<f64> = result.corner_uv.iter().flatten().flatten().copied().collect();
+        let corner_tris: Vec<u32> = (0..3 * mesh.triangle_count() as u32).collect();
+        let m = distortion(
+            mesh.points(),
+            mesh.triangles(),
+            &flat.chunks(2).map(|c| [c[0], c[1]]).collect::<Vec<_>>(),
+            &corner_tris.chunks(3).map(|c| [c[0], c[1], c[2]]).collect::<Vec<_>>(),
+        )
+        .expect("metrics");
+        println!(
+            "| {name} | {} | {} | {} | {:.1e} | {:.1e} | {} | {:.2} | {:.2} |",
+            mesh.triangle_count(),
+            cones.len(),
+            result.seams.len(),
+            seam_error,
+            cone_error,
+            result.report.flipped_triangles,
+            m.angle_mean.to_degrees(),
+            seconds
+        );
+        assert!(seam_error < 1e-9, "{name}: seam sides differ by {seam_error}");
+        assert!(cone_error < 1e-8, "{name}: cone angles off by {cone_error}");
+    }
 }

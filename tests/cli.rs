@@ -264,6 +264,48 @@ fn circle_patterns_flip_to_intrinsic_delaunay_unless_told_not_to() {
 }
 
 #[test]
+fn circle_patterns_with_cones_write_per_corner_uvs() {
+    // A torus needs no cone (χ = 0): a zero-curvature cone only asks for the cone map.
+    let torus = format!("{MESHES}/closed_g1_torus.obj");
+    let out = scratch("torus_cones.obj");
+    let o = uvflat(&[
+        "unwrap",
+        &torus,
+        "-o",
+        out.to_str().unwrap(),
+        "--method",
+        "circle-patterns",
+        "--cone",
+        "0:0",
+        "--json",
+    ]);
+    let report = json(&o);
+    assert_eq!(report["flipped"], 0, "{report}");
+    assert!(report["seam_edges"].as_u64().is_some_and(|n| n > 0), "{report}");
+    assert!(report["closure_error"].as_f64().is_some_and(|c| c < 1e-9), "{report}");
+    let triangles = count_lines(&out, "f ");
+    assert_eq!(count_lines(&out, "vt "), 3 * triangles);
+    // A sphere with one cone breaks Gauss–Bonnet: an input error, not a crash.
+    let o = uvflat(&[
+        "unwrap",
+        &format!("{MESHES}/closed_g0_bunny.obj"),
+        "-o",
+        out.to_str().unwrap(),
+        "--method",
+        "circle-patterns",
+        "--cone",
+        "0:90",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("Gauss"), "{}", stderr(&o));
+    for bad in [vec!["--cone", "zero:90"], vec!["--cone", "0:90", "--cut", "auto"]] {
+        let mut args = vec!["unwrap", torus.as_str(), "-o", out.to_str().unwrap(), "--method", "circle-patterns"];
+        args.extend(bad);
+        assert_eq!(uvflat(&args).status.code(), Some(2), "{args:?}");
+    }
+}
+
+#[test]
 fn options_that_do_not_apply_are_usage_errors() {
     let out = scratch("u.obj");
     let out = out.to_str().unwrap();

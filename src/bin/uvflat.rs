@@ -15,7 +15,9 @@ use uvflat::io::svg::write_uv_svg;
 use uvflat::mesh::cut::{cut_to_disk, total_edge_length, EdgeCost};
 use uvflat::methods::abf::{abf, AbfOptions, AbfVariant};
 use uvflat::methods::boundary_optimization::{boundary_optimized_map, BoundaryOptimizationOptions};
-use uvflat::methods::circle_patterns::{circle_pattern_map, polygon_boundary_curvature, CirclePatternOptions};
+use uvflat::methods::circle_patterns::{
+    circle_pattern_cone_map, circle_pattern_map, polygon_boundary_curvature, CirclePatternOptions,
+};
 use uvflat::methods::conformal::Pin;
 use uvflat::methods::length_area_distortion::DistortionEnergy;
 use uvflat::methods::near_optimal::{near_optimal_map, NearOptimalOptions};
@@ -289,6 +291,12 @@ struct UnwrapArgs {
     /// longest boundary loop; 4 give a rectangle); default: free boundary.
     #[arg(long = "corner")]
     corners: Vec<u32>,
+    /// circle-patterns: a cone singularity `V:DEGREES` at interior vertex V, its curvature in
+    /// degrees (360 minus the cone angle: 90 for a cube corner); repeat. The mesh is then cut
+    /// through the cones (any genus; on a closed mesh the curvatures must sum to 360·χ) and the
+    /// UVs are per corner. Tori need none: give `--cone` with curvature 0 (e.g. `0:0`).
+    #[arg(long = "cone")]
+    cones: Vec<String>,
     /// Also draw the UV layout into this SVG file.
     #[arg(long)]
     svg: Option<PathBuf>,
@@ -501,6 +509,9 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
     let start = Instant::now();
     let mesh = TriMesh::new(&obj.positions, &obj.triangles)
         .map_err(|e| Failure { message: format!("{}: {e}", args.input.display()), usage: false })?;
+    if !args.cones.is_empty() {
+        return unwrap_cone_map(args, &obj, &mesh, start);
+    }
     let cut_mode =
         args.cut.unwrap_or(if mesh.require_disk_with_holes().is_ok() { CutMode::None } else { CutMode::Auto });
     let cut = match cut_mode {
@@ -573,6 +584,65 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
             let (seam, total) = (c.seam_length(&mesh), total_edge_length(&mesh));
             println!("  cut edges               {} (seam {:.4} of total edge length)", c.edges.len(), seam / total);
         }
+        print_metrics_text(&metrics);
+    }
+    Ok(())
+}
+
+/// `--cone V:DEGREES` values as (vertex, curvature in radians).
+fn parse_cones(values: &[String]) -> Result<Vec<(u32, f64)>, Failure> {
+    values
+        .iter()
+        .map(|text| {
+            let parsed =
+                text.split_once(':').and_then(|(v, k)| Some((v.trim().parse().ok()?, k.trim().parse::<f64>().ok()?)));
+            parsed
+                .map(|(v, k)| (v, k.to_radians()))
+                .ok_or_else(|| usage(format!("--cone takes VERTEX:DEGREES, not {text:?}")))
+        })
+        .collect()
+}
+
+/// `--method circle-patterns --cone ...`: the cone map, cut through its cones, per-corner UVs.
+fn unwrap_cone_map(args: &UnwrapArgs, obj: &ObjMesh, mesh: &TriMesh, start: Instant) -> Result<(), Failure> {
+    let cones = parse_cones(&args.cones)?;
+    let boundary_curvature =
+        if args.corners.is_empty() { None } else { Some(polygon_boundary_curvature(mesh, &args.corners)?) };
+    let options = CirclePatternOptions {
+        intrinsic_delaunay: !args.no_intrinsic_delaunay,
+        boundary_curvature,
+        ..CirclePatternOptions::default()
+    };
+    let result = circle_pattern_cone_map(mesh, &cones, &options, &mut Progress::none())?;
+    let seconds = start.elapsed().as_secs_f64();
+    let uv: Vec<[f64; 2]> = result.corner_uv.iter().flatten().copied().collect();
+    let uv_triangles: Vec<[u32; 3]> =
+        (0..mesh.triangle_count() as u32).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
+    let flat: Vec<u32> = uv_triangles.iter().flatten().copied().collect();
+    write_obj_with_corner_uv(&args.output, &obj.positions, &obj.triangles, &uv, &flat)?;
+    if let Some(svg) = &args.svg {
+        write_uv_svg(svg, &uv, &uv_triangles)?;
+    }
+    let metrics = distortion(mesh.points(), mesh.triangles(), &uv, &uv_triangles)?;
+    let r = result.report;
+    if args.json {
+        let mut object = serde_json::json!({
+            "method": "circle-patterns", "seconds": seconds, "vertices": mesh.vertex_count(),
+            "output": args.output.display().to_string(), "cones": cones.len(), "seam_edges": result.seams.len(),
+            "intrinsic_flips": r.intrinsic_flips, "closure_error": r.closure_error, "flipped_triangles": r.flipped_triangles,
+        });
+        merge(&mut object, metrics.to_json());
+        println!("{object}");
+    } else {
+        println!(
+            "circle-patterns with {} cones: {} seam edges, {} intrinsic flips, circles closed to {:.1e}, {:.3} s -> {}",
+            cones.len(),
+            result.seams.len(),
+            r.intrinsic_flips,
+            r.closure_error,
+            seconds,
+            args.output.display()
+        );
         print_metrics_text(&metrics);
     }
     Ok(())
@@ -1130,8 +1200,13 @@ fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
     if !optimizing && args.energy.is_some() {
         return Err(usage("--energy applies to --method intrinsic-optimal and boundary-optimized only"));
     }
-    if method != MethodName::CirclePatterns && (args.no_intrinsic_delaunay || !args.corners.is_empty()) {
-        return Err(usage("--no-intrinsic-delaunay and --corner apply to --method circle-patterns only"));
+    if method != MethodName::CirclePatterns
+        && (args.no_intrinsic_delaunay || !args.corners.is_empty() || !args.cones.is_empty())
+    {
+        return Err(usage("--no-intrinsic-delaunay, --corner and --cone apply to --method circle-patterns only"));
+    }
+    if !args.cones.is_empty() && (args.cut.is_some() || !args.pins.is_empty()) {
+        return Err(usage("--cone cuts the mesh through the cones itself: no --cut or --pin"));
     }
     Ok(())
 }

@@ -5,7 +5,9 @@ use super::{
     UvfProgressFn,
 };
 use crate::error::{Error, UvfStatus};
-use crate::methods::circle_patterns::{circle_pattern_map, polygon_boundary_curvature, CirclePatternOptions};
+use crate::methods::circle_patterns::{
+    circle_pattern_cone_map, circle_pattern_map, polygon_boundary_curvature, CirclePatternOptions, CirclePatternReport,
+};
 use crate::progress::Progress;
 use std::os::raw::c_void;
 
@@ -107,7 +109,7 @@ pub unsafe extern "C" fn uvf_circle_pattern_options_default(options: *mut UvfCir
 /// their vertices' uv, so after intrinsic flips some may be flipped (counted in
 /// `flipped_triangles`; none without the flips). The boundary is free, or its turning angles
 /// are prescribed where `boundary_curvature` says (paper §5; a straight-sided polygon with
-/// `uvf_circle_pattern_polygon_curvature`). Not implemented: cone singularities.
+/// `uvf_circle_pattern_polygon_curvature`). Cone singularities: `uvf_circle_pattern_cone_map`.
 ///
 /// Needs a connected genus-0 mesh with at least one boundary. `uv_out` receives 2 doubles per
 /// vertex (NaN for unreferenced ones); `options` and `report_out` may be NULL. Returns `UVF_OK`,
@@ -128,49 +130,119 @@ pub unsafe extern "C" fn uvf_circle_pattern_map(
     report_out: *mut UvfCirclePatternReport,
 ) -> UvfStatus {
     guard(|| {
-        let full = std::mem::size_of::<UvfCirclePatternOptions>();
-        let o = read_options(options, UvfCirclePatternOptions::default(), full, "UvfCirclePatternOptions")?;
-        let pins = super::pins_from_options(o.pin_count, o.pin_vertices, o.pin_uv)?;
-        if o.max_iterations == 0 {
-            return Err(Error::InvalidArgument("max_iterations must be at least 1".into()));
-        }
-        if o.intrinsic_delaunay > 1 {
-            return Err(Error::InvalidArgument(format!(
-                "intrinsic_delaunay must be 0 or 1 (got {})",
-                o.intrinsic_delaunay
-            )));
-        }
+        let (o, opts) = options_from_c(options, vertex_count)?;
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
-        let boundary_curvature = if o.boundary_curvature.is_null() {
-            None
-        } else {
-            Some(borrow_slice(o.boundary_curvature, vertex_count, "boundary_curvature")?.to_vec())
-        };
-        let opts = CirclePatternOptions {
-            pins,
-            max_iterations: o.max_iterations,
-            tolerance: o.tolerance,
-            intrinsic_delaunay: o.intrinsic_delaunay == 1,
-            boundary_curvature,
-        };
         // Checked before the work so that a bad output pointer leaves everything untouched.
         borrow_slice_mut(uv_out, checked_count(vertex_count, 2, "uv")?, "uv_out")?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let result = circle_pattern_map(&mesh, &opts, &mut Progress::new(&mut callback))?;
         write_uv(&result.uv, uv_out)?;
-        if !report_out.is_null() {
-            let r = result.report;
-            // SAFETY: non-null, and the caller promises a writable UvfCirclePatternReport.
-            report_out.write(UvfCirclePatternReport {
-                angle_iterations: r.angle_iterations,
-                radius_iterations: r.radius_iterations,
-                closure_error: r.closure_error,
-                non_delaunay_edges: r.non_delaunay_edges,
-                max_angle_change: r.max_angle_change,
-                intrinsic_flips: r.intrinsic_flips,
-                flipped_triangles: r.flipped_triangles,
-            });
+        write_report(&result.report, report_out);
+        Ok(())
+    })
+}
+
+/// The caller's options (defaults for NULL) checked and converted.
+///
+/// # Safety
+/// `options` must be NULL or valid, its `boundary_curvature` NULL or `vertex_count` long.
+unsafe fn options_from_c(
+    options: *const UvfCirclePatternOptions,
+    vertex_count: usize,
+) -> crate::error::Result<(UvfCirclePatternOptions, CirclePatternOptions)> {
+    let full = std::mem::size_of::<UvfCirclePatternOptions>();
+    let o = read_options(options, UvfCirclePatternOptions::default(), full, "UvfCirclePatternOptions")?;
+    let pins = super::pins_from_options(o.pin_count, o.pin_vertices, o.pin_uv)?;
+    if o.max_iterations == 0 {
+        return Err(Error::InvalidArgument("max_iterations must be at least 1".into()));
+    }
+    if o.intrinsic_delaunay > 1 {
+        return Err(Error::InvalidArgument(format!(
+            "intrinsic_delaunay must be 0 or 1 (got {})",
+            o.intrinsic_delaunay
+        )));
+    }
+    let boundary_curvature = if o.boundary_curvature.is_null() {
+        None
+    } else {
+        Some(borrow_slice(o.boundary_curvature, vertex_count, "boundary_curvature")?.to_vec())
+    };
+    let opts = CirclePatternOptions {
+        pins,
+        max_iterations: o.max_iterations,
+        tolerance: o.tolerance,
+        intrinsic_delaunay: o.intrinsic_delaunay == 1,
+        boundary_curvature,
+    };
+    Ok((o, opts))
+}
+
+/// Writes `report` to `report_out` unless it is NULL.
+///
+/// # Safety
+/// `report_out` must be NULL or writable.
+unsafe fn write_report(report: &CirclePatternReport, report_out: *mut UvfCirclePatternReport) {
+    if !report_out.is_null() {
+        let r = report;
+        // SAFETY: non-null, and the caller promises a writable UvfCirclePatternReport.
+        report_out.write(UvfCirclePatternReport {
+            angle_iterations: r.angle_iterations,
+            radius_iterations: r.radius_iterations,
+            closure_error: r.closure_error,
+            non_delaunay_edges: r.non_delaunay_edges,
+            max_angle_change: r.max_angle_change,
+            intrinsic_flips: r.intrinsic_flips,
+            flipped_triangles: r.flipped_triangles,
+        });
+    }
+}
+
+/// Conformal map with cone singularities by circle patterns (Kharevych, Springborn & Schröder
+/// 2006 §5), for a connected mesh of any genus, closed or with boundary: cone `i` sits at
+/// interior vertex `cone_vertices[i]` with curvature `cone_curvature[i]` (2π minus the cone
+/// angle, radians; π/2 for a cube corner); the other interior vertices are flat. On a closed
+/// mesh the curvatures must sum to 2π χ (4π on a sphere; none needed on a torus:
+/// `cone_count` = 0). The mesh is cut through the cones (and its handles), flipped to its
+/// intrinsic Delaunay triangulation keeping the cut (with `options->intrinsic_delaunay`), the
+/// pattern solved as by `uvf_circle_pattern_map`, and laid out per corner: the two sides of
+/// every seam are congruent, and the uv angles around each cone sum to its cone angle.
+///
+/// `corner_uv_out` receives 6 doubles per triangle (u, v of corners 0, 1, 2); `options` must
+/// have `pin_count` 0 (the map is placed by the two farthest boundary vertices of the opened
+/// mesh); `options->boundary_curvature` applies to the mesh's own boundary. Returns `UVF_OK`,
+/// `UVF_INVALID_ARGUMENT` (a cone off the interior or given twice, curvatures against
+/// Gauss–Bonnet, pins), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (several components),
+/// `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
+/// untouched.
+///
+/// # Safety
+/// The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_circle_pattern_cone_map(
+    positions: *const f64,
+    vertex_count: usize,
+    triangles: *const u32,
+    triangle_count: usize,
+    cone_vertices: *const u32,
+    cone_curvature: *const f64,
+    cone_count: usize,
+    options: *const UvfCirclePatternOptions,
+    corner_uv_out: *mut f64,
+    report_out: *mut UvfCirclePatternReport,
+) -> UvfStatus {
+    guard(|| {
+        let (o, opts) = options_from_c(options, vertex_count)?;
+        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let vertices = borrow_slice(cone_vertices, cone_count, "cone_vertices")?;
+        let curvature = borrow_slice(cone_curvature, cone_count, "cone_curvature")?;
+        let cones: Vec<(u32, f64)> = vertices.iter().copied().zip(curvature.iter().copied()).collect();
+        let out = borrow_slice_mut(corner_uv_out, checked_count(triangle_count, 6, "corner uv")?, "corner_uv_out")?;
+        let mut callback = progress_closure(o.progress, o.progress_user);
+        let result = circle_pattern_cone_map(&mesh, &cones, &opts, &mut Progress::new(&mut callback))?;
+        for (slot, value) in out.iter_mut().zip(result.corner_uv.iter().flatten().flatten()) {
+            *slot = *value;
         }
+        write_report(&result.report, report_out);
         Ok(())
     })
 }

@@ -513,6 +513,30 @@ fn sphere_cut_path(mesh: &TriMesh, edges: &Edges, costs: &[f64]) -> Vec<bool> {
 }
 
 /// Splits the vertices along the cut edges (union–find over corners) and validates the disk.
+/// Opens `mesh` along the given interior edges (vertex pairs, either order; every one must be
+/// an edge of `mesh`), which must form a cut graph (the result is checked to be a disk).
+pub fn cut_along(mesh: &TriMesh, cut_edges: &[[u32; 2]]) -> Result<Cut> {
+    let edges = Edges::new(mesh);
+    let wanted: std::collections::HashSet<[u32; 2]> = cut_edges.iter().map(|&[a, b]| [a.min(b), a.max(b)]).collect();
+    let cut: Vec<bool> = edges
+        .halfedge
+        .iter()
+        .map(|&h| {
+            let (a, b) = (mesh.tail(h), mesh.head(h));
+            wanted.contains(&[a.min(b), a.max(b)])
+        })
+        .collect();
+    let found = cut.iter().filter(|&&c| c).count();
+    if found != wanted.len() {
+        return Err(Error::InvalidArgument(format!(
+            "{} of the {} cut edges are not edges of the mesh",
+            wanted.len() - found,
+            wanted.len()
+        )));
+    }
+    build_cut_mesh(mesh, &edges, &cut)
+}
+
 fn build_cut_mesh(mesh: &TriMesh, edges: &Edges, cut: &[bool]) -> Result<Cut> {
     let twin = &mesh.connectivity().twin;
     // Corner ids are half-edge ids: corner k of triangle t is the tail of half-edge 3t + k.

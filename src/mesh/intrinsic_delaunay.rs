@@ -91,17 +91,26 @@ fn opposite_cot(lengths: &[[f64; 3]], h: u32) -> f64 {
 /// would join two already joined vertices). O(E) flips in practice; each pops one edge and
 /// pushes the four around it.
 pub fn intrinsic_delaunay(mesh: &TriMesh) -> IntrinsicTriangulation {
-    flip_to_delaunay(mesh, false)
+    intrinsic_delaunay_constrained(mesh, &FlipConstraints::default())
 }
 
-/// [`intrinsic_delaunay`], except that no flip leaves a boundary vertex in a single triangle
-/// (whose angle there would then have to be the whole boundary angle, near π on a smooth
-/// boundary): for callers that prescribe the boundary angles.
-pub fn intrinsic_delaunay_keeping_boundary_fans(mesh: &TriMesh) -> IntrinsicTriangulation {
-    flip_to_delaunay(mesh, true)
+/// Edges [`intrinsic_delaunay_constrained`] must not flip.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FlipConstraints<'a> {
+    /// No flip leaves a boundary vertex in a single triangle (whose angle there would then
+    /// have to be the whole boundary angle, near π on a smooth boundary): for callers that
+    /// prescribe the boundary angles.
+    pub keep_boundary_fans: bool,
+    /// Edges (vertex pairs, either order) kept as they are, e.g. a cut graph the caller will
+    /// open the result along.
+    pub fixed_edges: &'a [[u32; 2]],
 }
 
-fn flip_to_delaunay(mesh: &TriMesh, keep_boundary_fans: bool) -> IntrinsicTriangulation {
+/// [`intrinsic_delaunay`] under `constraints`; the edges left non-Delaunay because of them
+/// are counted in [`IntrinsicTriangulation::non_delaunay_edges`].
+pub fn intrinsic_delaunay_constrained(mesh: &TriMesh, constraints: &FlipConstraints) -> IntrinsicTriangulation {
+    let keep_boundary_fans = constraints.keep_boundary_fans;
+    let fixed: HashSet<[u32; 2]> = constraints.fixed_edges.iter().map(|&[a, b]| edge_key(a, b)).collect();
     let triangles = mesh.triangles().to_vec();
     let mut fan_size = vec![0u32; mesh.vertex_count()];
     for v in triangles.iter().flatten() {
@@ -125,7 +134,8 @@ fn flip_to_delaunay(mesh: &TriMesh, keep_boundary_fans: bool) -> IntrinsicTriang
         }
         let (k, l) = (tri.tail(prev(h)), tri.tail(prev(tri.twin[h as usize])));
         let (i, j) = (tri.tail(h), tri.tail(next(h)));
-        if k == l || edges.contains(&edge_key(k, l)) || thin_fan(i, &fan_size) || thin_fan(j, &fan_size) {
+        let blocked = fixed.contains(&edge_key(i, j)) || thin_fan(i, &fan_size) || thin_fan(j, &fan_size);
+        if k == l || edges.contains(&edge_key(k, l)) || blocked {
             continue;
         }
         edges.remove(&edge_key(i, j));

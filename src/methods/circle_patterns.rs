@@ -51,15 +51,17 @@ use super::conformal::{resolve_pins, Pin};
 use crate::error::{Error, Result};
 use crate::linalg::{lower_from_entries, CholeskyPattern, CholeskySolver};
 use crate::mesh::connectivity::prev;
-use crate::mesh::intrinsic_delaunay::{edge_lengths, intrinsic_delaunay, intrinsic_delaunay_keeping_boundary_fans};
+use crate::mesh::intrinsic_delaunay::{edge_lengths, intrinsic_delaunay_constrained, FlipConstraints};
 use crate::mesh::{TriMesh, NONE};
 use crate::progress::Progress;
 use faer::sparse::SparseColMat;
 use faer::Mat;
 use std::f64::consts::PI;
 
-mod boundary_curvature;
-pub use boundary_curvature::polygon_boundary_curvature;
+mod angle_sums;
+mod cones;
+pub use angle_sums::polygon_boundary_curvature;
+pub use cones::{circle_pattern_cone_map, ConeMapResult};
 
 /// Smallest gap π − θ_e the angle program allows (radians): at θ = π the two circles
 /// coincide and the kite's weight sin θ / (2 (cosh x + cos θ)) runs to 0 or ∞.
@@ -135,19 +137,38 @@ pub fn circle_pattern_map(
     progress: &mut Progress,
 ) -> Result<CirclePatternResult> {
     let pins = resolve_pins(mesh, options.pins)?;
+    check_tolerance(options)?;
+    let surface = Triangulation::of(mesh, options, &[])?;
+    let sums = angle_sums::vertex_sums(&surface.mesh, options.boundary_curvature.as_deref(), &[])?;
+    let (angles, mut report) = solve_pattern(&surface, &sums, options, progress)?;
+    let uv = reconstruct_uv(&surface.mesh, &angles, pins)?;
+    progress.report(1.0)?;
+    report.flipped_triangles = flipped_triangles(mesh, &uv);
+    Ok(CirclePatternResult { uv, report })
+}
+
+fn check_tolerance(options: &CirclePatternOptions) -> Result<()> {
     if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
         return Err(Error::InvalidArgument(format!(
             "circle pattern tolerance must be finite and > 0 (got {})",
             options.tolerance
         )));
     }
-    let surface = Triangulation::of(mesh, options.intrinsic_delaunay, options.boundary_curvature.is_some())?;
+    Ok(())
+}
+
+/// The pattern on `surface` with the angle sums `sums` (NaN: free): the program's angles, the
+/// intersection angles, the radii; returns each triangle's pattern angles (corner order) and
+/// the report (without the flipped triangles, which depend on the layout).
+fn solve_pattern(
+    surface: &Triangulation,
+    sums: &[f64],
+    options: &CirclePatternOptions,
+    progress: &mut Progress,
+) -> Result<(Vec<[f64; 3]>, CirclePatternReport)> {
     let work = &surface.mesh;
     let beta: Vec<f64> = surface.angles.iter().flatten().copied().collect();
-    if let Some(curvature) = &options.boundary_curvature {
-        boundary_curvature::check(work, curvature)?;
-    }
-    let program = AngleProgram::new(work, &beta, options.boundary_curvature.as_deref());
+    let program = AngleProgram::new(work, &beta, sums);
     let (alpha, angle_iterations) = program.solve(options.max_iterations, progress)?;
     progress.report(0.6)?;
     let theta = intersection_angles(work, &alpha);
@@ -156,8 +177,6 @@ pub fn circle_pattern_map(
     let phi = kite_angles(work, &theta, &rho);
     let closure_error = phi.iter().map(|p| (p.iter().sum::<f64>() - PI).abs()).fold(0.0, f64::max);
     let angles: Vec<[f64; 3]> = phi.iter().map(|p| [p[1], p[2], p[0]]).collect();
-    let uv = reconstruct_uv(work, &angles, pins)?;
-    progress.report(1.0)?;
     let report = CirclePatternReport {
         angle_iterations,
         radius_iterations,
@@ -165,9 +184,9 @@ pub fn circle_pattern_map(
         non_delaunay_edges: program.non_delaunay_edges(&beta),
         max_angle_change: alpha.iter().zip(&beta).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max),
         intrinsic_flips: surface.flips,
-        flipped_triangles: flipped_triangles(mesh, &uv),
+        flipped_triangles: 0,
     };
-    Ok(CirclePatternResult { uv, report })
+    Ok((angles, report))
 }
 
 /// The triangulation the pattern is built on, with its edge lengths and angles in the mesh's
@@ -181,16 +200,18 @@ struct Triangulation {
 }
 
 impl Triangulation {
-    /// `prescribed_boundary`: the boundary angle sums will be prescribed, so no flip may leave
-    /// a boundary vertex in one triangle (its one angle would have to be the whole sum).
-    fn of(mesh: &TriMesh, flip_to_delaunay: bool, prescribed_boundary: bool) -> Result<Self> {
-        if !flip_to_delaunay {
+    /// With `options.intrinsic_delaunay`, the flips keep the `fixed` edges (a cut) and, when
+    /// the boundary angle sums are prescribed, leave no boundary vertex in one triangle (its one
+    /// angle would have to be the whole sum).
+    fn of(mesh: &TriMesh, options: &CirclePatternOptions, fixed: &[[u32; 2]]) -> Result<Self> {
+        if !options.intrinsic_delaunay {
             let lengths = edge_lengths(mesh);
             let angles = mesh.corner_angles().to_vec();
             return Ok(Triangulation { mesh: mesh.clone(), lengths, angles, flips: 0 });
         }
-        let flipped =
-            if prescribed_boundary { intrinsic_delaunay_keeping_boundary_fans(mesh) } else { intrinsic_delaunay(mesh) };
+        let constraints =
+            FlipConstraints { keep_boundary_fans: options.boundary_curvature.is_some(), fixed_edges: fixed };
+        let flipped = intrinsic_delaunay_constrained(mesh, &constraints);
         let angles = flipped.corner_angles();
         // Same vertices, a simplicial manifold triangulation of the same surface: the
         // connectivity checks pass; the 3D positions only order the sparse systems.
@@ -201,11 +222,14 @@ impl Triangulation {
 
 /// Triangles of `mesh` whose uv signed area is not positive.
 fn flipped_triangles(mesh: &TriMesh, uv: &[[f64; 2]]) -> u32 {
-    let area = |t: &[u32; 3]| {
-        let [a, b, c] = t.map(|v| uv[v as usize]);
-        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-    };
-    mesh.triangles().iter().filter(|t| !(area(t) > 0.0)).count() as u32
+    let corners: Vec<[[f64; 2]; 3]> = mesh.triangles().iter().map(|t| t.map(|v| uv[v as usize])).collect();
+    flipped_triangles_of_corners(&corners)
+}
+
+/// Triangles whose corner uv have a signed area that is not positive.
+fn flipped_triangles_of_corners(corners: &[[[f64; 2]; 3]]) -> u32 {
+    let area = |[a, b, c]: &[[f64; 2]; 3]| (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    corners.iter().filter(|t| !(area(t) > 0.0)).count() as u32
 }
 
 /// θ per half-edge (both half-edges of an interior edge get the same value): the sum of the
@@ -407,8 +431,8 @@ fn delaunay_slack(a: f64, b: f64) -> f64 {
 }
 
 impl AngleProgram {
-    /// `curvature`: per vertex, the boundary curvature to prescribe (NaN: free), or `None`.
-    fn new(mesh: &TriMesh, beta: &[f64], curvature: Option<&[f64]>) -> Self {
+    /// `sums`: per vertex, the angle sum to prescribe (NaN: free; see `angle_sums`).
+    fn new(mesh: &TriMesh, beta: &[f64], sums: &[f64]) -> Self {
         let twin = &mesh.connectivity().twin;
         let corners = beta.len();
         let mut pairs = Vec::new();
@@ -425,28 +449,16 @@ impl AngleProgram {
         let mut row_points = triangle_centroids(mesh);
         let mut targets = vec![PI; triangles];
         let mut row_of_vertex = vec![NONE; mesh.vertex_count()];
-        let prescribed = |v: u32| curvature.map(|c| c[v as usize]).filter(|k| !k.is_nan());
-        // With every boundary vertex prescribed, the vertex rows add up to the triangle rows
-        // (each corner is in one of each): one row is implied (by Gauss–Bonnet, checked by
-        // `boundary_curvature::check`) and left out, or J Jᵀ would be singular.
-        let implied = mesh.boundary_loops().iter().flatten().all(|&v| prescribed(v).is_some());
-        let mut skip = mesh.boundary_loops().first().and_then(|lp| lp.first().copied()).filter(|_| implied);
-        for v in 0..mesh.vertex_count() as u32 {
-            let target = match (mesh.is_referenced(v), mesh.is_boundary_vertex(v)) {
-                (false, _) => continue,
-                (true, false) => 2.0 * PI,
-                (true, true) => match prescribed(v) {
-                    Some(_) if skip == Some(v) => {
-                        skip = None;
-                        continue;
-                    }
-                    Some(k) => PI - k,
-                    None => continue,
-                },
-            };
+        // With every vertex prescribed, the vertex rows add up to the triangle rows (each
+        // corner is in one of each): one row is implied (by Gauss–Bonnet, checked by
+        // `angle_sums::vertex_sums`) and left out, or J H⁻¹ Jᵀ would be singular.
+        let referenced = || (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_referenced(v));
+        let implied = referenced().all(|v| !sums[v as usize].is_nan());
+        let skip = referenced().next().filter(|_| implied);
+        for v in referenced().filter(|&v| !sums[v as usize].is_nan() && Some(v) != skip) {
             row_of_vertex[v as usize] = row_points.len() as u32;
             row_points.push(mesh.points()[v as usize]);
-            targets.push(target);
+            targets.push(sums[v as usize]);
         }
         let vertex_row = mesh.triangles().iter().flat_map(|t| t.map(|v| row_of_vertex[v as usize])).collect::<Vec<_>>();
         let weight = beta.iter().map(|b| 1.0 / b.max(1e-6).powi(2)).collect();

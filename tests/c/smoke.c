@@ -404,6 +404,29 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
                   "polygon corner off the boundary refused");
             circles.boundary_curvature = NULL;
         }
+        {
+            /* One cone of curvature pi/2 in the middle of the grid: cut to the boundary. */
+            static double corner_uv[6 * 2 * (N - 1) * (N - 1)];
+            uint32_t cone = (N / 2) * N + N / 2, boundary_vertex = 0;
+            double kappa = 3.14159265358979 / 2;
+            size_t k;
+            int finite = 1;
+            check(uvf_circle_pattern_cone_map(positions, nv, triangles, nt, &cone, &kappa, 1, &circles, corner_uv,
+                                              &circles_report) == UVF_OK &&
+                      circles_report.closure_error < 1e-9 && circles_report.flipped_triangles == 0,
+                  "circle pattern cone map");
+            for (k = 0; k < 6 * nt; k++)
+                finite &= isfinite(corner_uv[k]);
+            check(finite, "cone map corner uv finite");
+            corner_uv[0] = 42.0;
+            check(uvf_circle_pattern_cone_map(positions, nv, triangles, nt, &boundary_vertex, &kappa, 1, &circles,
+                                              corner_uv, NULL) == UVF_INVALID_ARGUMENT &&
+                      corner_uv[0] == 42.0,
+                  "cone on the boundary refused, output untouched");
+            check(uvf_circle_pattern_cone_map(positions, nv, triangles, nt, NULL, NULL, 1, &circles, corner_uv, NULL) ==
+                      UVF_INVALID_ARGUMENT,
+                  "NULL cone arrays with a count refused");
+        }
         circles.pin_count = 1;
         uv[0] = 42.0;
         check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, NULL) == UVF_INVALID_ARGUMENT &&

@@ -118,7 +118,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 79, sorted(functions)
+    assert len(functions) == 80, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -1307,6 +1307,42 @@ def test_circle_pattern_map_onto_a_rectangle_by_prescribed_boundary_curvature():
         uvflat.polygon_boundary_curvature(p, t, corners[:2])
     with pytest.raises(uvflat.InvalidArgument):
         uvflat.circle_pattern_map(p, t, boundary_curvature=np.where(np.isnan(curvature), np.nan, 0.1))
+
+
+def test_circle_pattern_cone_map_of_a_sphere_and_a_torus():
+    # Sphere: four cones of curvature π (a tetrahedron's corners, Σ = 4π = 2π χ).
+    p, t = load_mesh("closed_g0_bunny.obj")
+    chosen = [0]
+    distance = np.linalg.norm(p - p[0], axis=1)
+    while len(chosen) < 4:
+        chosen.append(int(np.argmax(distance)))
+        distance = np.minimum(distance, np.linalg.norm(p - p[chosen[-1]], axis=1))
+    corner_uv, report = uvflat.circle_pattern_cone_map(p, t, {v: np.pi for v in chosen})
+    assert corner_uv.shape == (len(t), 3, 2) and np.isfinite(corner_uv).all()
+    assert report.closure_error < 1e-9 and report.flipped_triangles == 0
+    # The uv angles around each cone sum to its cone angle, 2π − π.
+    e1 = np.roll(corner_uv, -1, axis=1) - corner_uv
+    e2 = np.roll(corner_uv, -2, axis=1) - corner_uv
+    angle = np.arctan2(e1[..., 0] * e2[..., 1] - e1[..., 1] * e2[..., 0], (e1 * e2).sum(axis=2))
+    for v in chosen:
+        assert abs(angle[t == v].sum() - np.pi) < 1e-8
+    # Torus: no cone needed (χ = 0); a closed torus without them is flat but cut open.
+    p, t = load_mesh("closed_g1_torus.obj")
+    corner_uv, report = uvflat.circle_pattern_cone_map(p, t, {})
+    assert report.flipped_triangles == 0 and report.closure_error < 1e-9
+    # Gauss–Bonnet, a boundary cone, malformed cones.
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.circle_pattern_cone_map(*load_mesh("closed_g0_bunny.obj"), {0: np.pi})
+    disk = load_mesh("disk_nefertiti_small.obj")
+    loop = uvflat.boundary_loops(*disk)[0]
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.circle_pattern_cone_map(*disk, {int(loop[0]): 1.0})
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.circle_pattern_cone_map(*disk, ([1, 2], [0.5]))
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.circle_pattern_cone_map(*disk, [1, 2])
+    with pytest.raises(uvflat.Cancelled):
+        uvflat.circle_pattern_cone_map(*disk, {}, progress=lambda fraction: False)
 
 
 def test_quadcover_gives_integer_seams_and_cones_and_checks_its_input():

@@ -736,6 +736,39 @@ class CirclePatternReport:
     flipped_triangles: int
 
 
+def _circle_pattern_options(
+    p: np.ndarray,
+    t: np.ndarray,
+    pins: Optional[Pins],
+    max_iterations: Optional[int],
+    tolerance: Optional[float],
+    intrinsic_delaunay: bool,
+    boundary_curvature: Optional[ArrayLike],
+    corners: Optional[ArrayLike],
+) -> Tuple[Any, Optional[np.ndarray]]:
+    """The C options and the curvature array they point to (keep it alive during the call)."""
+    options = L.UvfCirclePatternOptions()
+    L.library().uvf_circle_pattern_options_default(byref(options))
+    if pins is not None:
+        _set_two_pins(options, pins)
+    if max_iterations is not None:
+        options.max_iterations = int(max_iterations)
+    if tolerance is not None:
+        options.tolerance = float(tolerance)
+    options.intrinsic_delaunay = 1 if intrinsic_delaunay else 0
+    if corners is not None:
+        if boundary_curvature is not None:
+            raise InvalidArgument("give boundary_curvature or corners, not both")
+        boundary_curvature = polygon_boundary_curvature(p, t, corners)
+    curvature = None
+    if boundary_curvature is not None:
+        curvature = np.require(np.asarray(boundary_curvature, dtype=np.float64), requirements=["C", "A"])
+        if curvature.shape != (len(p),):
+            raise InvalidArgument(f"boundary_curvature must have shape ({len(p)},), not {curvature.shape}")
+        options.boundary_curvature = _f64p(curvature)
+    return options, curvature
+
+
 def circle_pattern_map(
     positions: ArrayLike,
     triangles: ArrayLike,
@@ -773,24 +806,9 @@ def circle_pattern_map(
         ``(uv, report)``: ``(n, 2)`` UVs and a :class:`CirclePatternReport`.
     """
     p, t = _mesh_arrays(positions, triangles)
-    options = L.UvfCirclePatternOptions()
-    L.library().uvf_circle_pattern_options_default(byref(options))
-    if pins is not None:
-        _set_two_pins(options, pins)
-    if max_iterations is not None:
-        options.max_iterations = int(max_iterations)
-    if tolerance is not None:
-        options.tolerance = float(tolerance)
-    options.intrinsic_delaunay = 1 if intrinsic_delaunay else 0
-    if corners is not None:
-        if boundary_curvature is not None:
-            raise InvalidArgument("give boundary_curvature or corners, not both")
-        boundary_curvature = polygon_boundary_curvature(p, t, corners)
-    if boundary_curvature is not None:
-        curvature = np.require(np.asarray(boundary_curvature, dtype=np.float64), requirements=["C", "A"])
-        if curvature.shape != (len(p),):
-            raise InvalidArgument(f"boundary_curvature must have shape ({len(p)},), not {curvature.shape}")
-        options.boundary_curvature = _f64p(curvature)
+    options, _curvature = _circle_pattern_options(
+        p, t, pins, max_iterations, tolerance, intrinsic_delaunay, boundary_curvature, corners
+    )
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     uv = np.empty((len(p), 2), dtype=np.float64)
@@ -798,6 +816,64 @@ def circle_pattern_map(
     lib = L.library()
     bridge.run(lambda: lib.uvf_circle_pattern_map(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(uv), byref(report)))
     return uv, _from_struct(CirclePatternReport, report)
+
+
+def circle_pattern_cone_map(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    cones: Any,
+    *,
+    max_iterations: Optional[int] = None,
+    tolerance: Optional[float] = None,
+    intrinsic_delaunay: bool = True,
+    boundary_curvature: Optional[ArrayLike] = None,
+    corners: Optional[ArrayLike] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> Tuple[np.ndarray, CirclePatternReport]:
+    """Conformal map with cone singularities by circle patterns (Kharevych, Springborn &
+    Schröder 2006 §5; ``uvf_circle_pattern_cone_map``) of a connected mesh of any genus, closed
+    or with boundary. The mesh is cut through the cones (and its handles) and laid out per
+    corner: both sides of every seam are congruent, and the uv angles around each cone sum to
+    its cone angle.
+
+    Args:
+        cones: ``{vertex: curvature}`` or ``(vertices, curvatures)``: interior vertices and
+            their curvature in radians (2π minus the cone angle; π/2 for a cube corner). On a
+            closed mesh the curvatures must sum to 2π χ (4π on a sphere, 0 on a torus: ``{}``).
+        boundary_curvature, corners, intrinsic_delaunay: as for :func:`circle_pattern_map`.
+
+    Returns:
+        ``(corner_uv, report)``: ``(m, 3, 2)`` uv per triangle corner and a
+        :class:`CirclePatternReport`.
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    if isinstance(cones, Mapping):
+        vertices: Any = list(cones.keys())
+        curvatures: Any = [cones[v] for v in vertices]
+    elif isinstance(cones, tuple) and len(cones) == 2:
+        vertices, curvatures = cones
+    else:
+        raise InvalidArgument(f"cones must be a mapping {{vertex: curvature}} or (vertices, curvatures), not {type(cones).__name__}")
+    if np.size(vertices) == 0:
+        vertices = np.zeros(0, dtype=np.uint32)
+    v = _as_indices(vertices, "cone vertices", InvalidArgument, None, "cone vertex {value} (entry {row}) {reason}")
+    k = np.require(np.asarray(curvatures, dtype=np.float64).reshape(-1), requirements=["C", "A"])
+    if len(k) != len(v):
+        raise InvalidArgument(f"{len(v)} cone vertices but {len(k)} curvatures")
+    options, _curvature = _circle_pattern_options(
+        p, t, None, max_iterations, tolerance, intrinsic_delaunay, boundary_curvature, corners
+    )
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    corner_uv = np.empty((len(t), 3, 2), dtype=np.float64)
+    report = L.UvfCirclePatternReport()
+    lib = L.library()
+    bridge.run(
+        lambda: lib.uvf_circle_pattern_cone_map(
+            _f64p(p), len(p), _u32p(t), len(t), _u32p(v), _f64p(k), len(v), byref(options), _f64p(corner_uv), byref(report)
+        )
+    )
+    return corner_uv, _from_struct(CirclePatternReport, report)
 
 
 def polygon_boundary_curvature(positions: ArrayLike, triangles: ArrayLike, corners: ArrayLike) -> np.ndarray:

@@ -653,6 +653,21 @@ PROTOTYPES = {
         [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfCirclePatternOptions), _f64p, POINTER(UvfCirclePatternReport)],
     ),
     "uvf_circle_pattern_polygon_curvature": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, _u32p, c_size_t, _f64p]),
+    "uvf_circle_pattern_cone_map": (
+        UvfStatus,
+        [
+            _f64p,
+            c_size_t,
+            _u32p,
+            c_size_t,
+            _u32p,
+            _f64p,
+            c_size_t,
+            POINTER(UvfCirclePatternOptions),
+            _f64p,
+            POINTER(UvfCirclePatternReport),
+        ],
+    ),
     "uvf_quadcover_options_default": (None, [POINTER(UvfQuadCoverOptions)]),
     "uvf_quadcover": (
         UvfStatus,
