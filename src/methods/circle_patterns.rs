@@ -1,6 +1,7 @@
 //! Conformal parameterization by circle patterns (Kharevych, Springborn & Schröder 2006,
 //! "Discrete conformal mappings via circle patterns", ACM TOG 25(2); course notes 2008 §4.4,
-//! Figure 4.3), free boundary, for disks (holes allowed).
+//! Figure 4.3), for disks (holes allowed) with a free or prescribed boundary
+//! ([`angle_sums`]), and with cone singularities on meshes of any genus ([`cones`]).
 //!
 //! One circle per triangle, the circumcircle; two circles meet at the two ends of their common
 //! edge. For the triangle angles α (α_a at corner a, opposite the edge e(a)) the *intersection
@@ -130,7 +131,8 @@ pub struct CirclePatternResult {
     pub report: CirclePatternReport,
 }
 
-/// The circle-pattern conformal map of a disk (possibly with holes), free boundary.
+/// The circle-pattern conformal map of a disk (possibly with holes), its boundary free or
+/// shaped by `options.boundary_curvature`.
 pub fn circle_pattern_map(
     mesh: &TriMesh,
     options: &CirclePatternOptions,
