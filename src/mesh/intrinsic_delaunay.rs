@@ -17,7 +17,8 @@
 //! Δ-complex, not a simplicial surface). This implementation keeps the triangulation simplicial,
 //! so that the rest of the library's connectivity applies to it: a flip that would create an
 //! edge between two vertices already joined is not made, and the edge is counted in
-//! [`IntrinsicTriangulation::non_delaunay_edges`]. The half-edge convention is the mesh's:
+//! [`IntrinsicTriangulation::non_delaunay_edges`]. Callers may also keep given edges (a cut
+//! graph) and boundary fans ([`FlipConstraints`]). The half-edge convention is the mesh's:
 //! half-edge `3t + k` runs from corner `k` of triangle `t` to corner `k + 1`.
 
 use super::connectivity::{next, prev, NONE};
@@ -42,8 +43,8 @@ pub struct IntrinsicTriangulation {
     pub twin: Vec<u32>,
     /// Edge flips made.
     pub flips: u32,
-    /// Interior edges left non-Delaunay (their flip would have joined two vertices twice, or
-    /// left a boundary vertex in one triangle where that is not allowed).
+    /// Interior edges left non-Delaunay: their flip would have joined two vertices twice, or
+    /// is ruled out by the caller's [`FlipConstraints`] (a fixed edge, a boundary fan).
     pub non_delaunay_edges: u32,
 }
 
@@ -280,5 +281,20 @@ mod tests {
         assert_eq!(t.flips, 0);
         assert!(t.non_delaunay_edges >= 1);
         assert_eq!(t.triangles, m.triangles());
+    }
+
+    #[test]
+    fn fixed_edges_and_boundary_fans_are_kept() {
+        // The flat rhombus of the first test: its diagonal 0–2 is non-Delaunay, but fixed.
+        let positions = [0.0, 0.0, 0.0, 2.0, -0.5, 0.0, 4.0, 0.0, 0.0, 2.0, 0.5, 0.0];
+        let m = mesh(&positions, &[0, 1, 2, 0, 2, 3]);
+        let fixed =
+            intrinsic_delaunay_constrained(&m, &FlipConstraints { keep_boundary_fans: false, fixed_edges: &[[2, 0]] });
+        assert_eq!((fixed.flips, fixed.non_delaunay_edges), (0, 1));
+        // Every vertex is a boundary vertex in two triangles or fewer: flipping 0–2 would leave
+        // 0 and 2 in one triangle each.
+        let fans = intrinsic_delaunay_constrained(&m, &FlipConstraints { keep_boundary_fans: true, fixed_edges: &[] });
+        assert_eq!((fans.flips, fans.non_delaunay_edges), (0, 1));
+        assert_eq!(intrinsic_delaunay(&m).flips, 1);
     }
 }
