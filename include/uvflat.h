@@ -1801,7 +1801,9 @@ void uvf_circle_pattern_options_default(struct UvfCirclePatternOptions *options)
  * are prescribed where `boundary_curvature` says (paper §5; a straight-sided polygon with
  * `uvf_circle_pattern_polygon_curvature`). Cone singularities: `uvf_circle_pattern_cone_map`.
  *
- * Needs a connected genus-0 mesh with at least one boundary. `uv_out` receives 2 doubles per
+ * Needs a connected genus-0 mesh with at least one boundary; holes (every loop but the
+ * longest) are filled by virtual cones for the pattern and the layout, so that each turns
+ * exactly once in the plane. `uv_out` receives 2 doubles per
  * vertex (NaN for unreferenced ones); `options` and `report_out` may be NULL. Returns `UVF_OK`,
  * `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`,
  * `UVF_NUMERICAL_FAILURE` (the barrier or the radii did not converge within the iteration

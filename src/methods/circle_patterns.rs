@@ -132,22 +132,70 @@ pub struct CirclePatternResult {
     pub report: CirclePatternReport,
 }
 
-/// The circle-pattern conformal map of a disk (possibly with holes), its boundary free or
-/// shaped by `options.boundary_curvature`.
+/// The circle-pattern conformal map of a disk (possibly with holes, which are filled for the
+/// pattern and the layout: see `fill_holes_for_pattern`), its outer boundary free or shaped by
+/// `options.boundary_curvature`.
 pub fn circle_pattern_map(
     mesh: &TriMesh,
     options: &CirclePatternOptions,
     progress: &mut Progress,
 ) -> Result<CirclePatternResult> {
-    let pins = resolve_pins(mesh, options.pins)?;
+    let mut pins = resolve_pins(mesh, options.pins)?;
     check_tolerance(options)?;
-    let surface = Triangulation::of(mesh, options, &[])?;
+    let (filled, options) = fill_holes_for_pattern(mesh, options)?;
+    let disk = filled.as_ref().unwrap_or(mesh);
+    if options.pins.is_none() {
+        // Automatic pins on the filled disk's one loop: the input's farthest boundary pair may
+        // sit on a hole, whose vertices are now interior. Measured on holes_chinese_dragon
+        // (two 3-vertex loops at the two ends of a long body), without intrinsic flips: the
+        // layout folded 10,817 of its triangles with one pin on the filled hole, none with
+        // both on the outer loop (the pattern's angles were the same; presumably rounding in
+        // the least-squares layout across the body's wide range of scales).
+        pins = resolve_pins(disk, None)?;
+    }
+    let surface = Triangulation::of(disk, &options, &[])?;
     let sums = angle_sums::vertex_sums(&surface.mesh, options.boundary_curvature.as_deref(), &[])?;
-    let (angles, mut report) = solve_pattern(&surface, &sums, options, progress)?;
-    let uv = reconstruct_uv(&surface.mesh, &angles, pins)?;
+    let (angles, mut report) = solve_pattern(&surface, &sums, &options, progress)?;
+    let mut uv = reconstruct_uv(&surface.mesh, &angles, pins)?;
+    uv.truncate(mesh.vertex_count());
     progress.report(1.0)?;
     report.flipped_triangles = flipped_triangles(mesh, &uv);
     Ok(CirclePatternResult { uv, report })
+}
+
+/// A mesh with holes as the disk the pattern is solved on: every loop but the longest closed
+/// by a cone of triangles around a virtual vertex ([`crate::mesh::fill::fill_holes`]), and the
+/// options with the boundary curvature extended to the virtual vertices. `None` for a disk.
+///
+/// Why: a planar domain with holes has a layout only if, around each hole, the pattern's
+/// developing map closes up — a rotation of −2π in all and no translation. The angle program
+/// fixes only the total turning of all the loops (Gauss–Bonnet), and nothing in the radii
+/// fixes the translations, so with free holes the pattern generally has no planar layout (on
+/// holes_pig the least-squares layout of such a pattern folded 226 triangles). Filled, the
+/// holes' vertices are interior and flat, and the layout is exact.
+fn fill_holes_for_pattern(
+    mesh: &TriMesh,
+    options: &CirclePatternOptions,
+) -> Result<(Option<TriMesh>, CirclePatternOptions)> {
+    let loops = mesh.boundary_loops();
+    let Some(outer) = mesh.longest_boundary_loop().filter(|_| loops.len() > 1) else {
+        return Ok((None, options.clone()));
+    };
+    if let Some(curvature) = &options.boundary_curvature {
+        let on_hole = loops.iter().enumerate().filter(|(i, _)| *i != outer).flat_map(|(_, lp)| lp);
+        if let Some(v) = on_hole.copied().find(|&v| curvature.get(v as usize).is_some_and(|k| !k.is_nan())) {
+            return Err(Error::InvalidArgument(format!(
+                "boundary curvature is prescribed at vertex {v} of a hole; only the longest loop can be shaped (holes are filled for the layout)"
+            )));
+        }
+    }
+    let keep: Vec<bool> = (0..loops.len()).map(|i| i == outer).collect();
+    let filled = crate::mesh::fill::fill_holes(mesh, &keep)?;
+    let mut options = options.clone();
+    if let Some(curvature) = options.boundary_curvature.as_mut() {
+        curvature.resize(filled.mesh.vertex_count(), f64::NAN);
+    }
+    Ok((Some(filled.mesh), options))
 }
 
 fn check_tolerance(options: &CirclePatternOptions) -> Result<()> {
