@@ -53,6 +53,11 @@ LAST_RUN: Dict[str, Any] = {}
 METHODS = [
     ("NATURAL_CONFORMAL", "Natural Conformal", "Free-boundary natural conformal map (= LSCM, Desbrun et al. 2002); honours every pin"),
     ("ABF_PLUS_PLUS", "ABF++", "Angle Based Flattening (Sheffer et al. 2005), then least-squares reconstruction; free boundary"),
+    (
+        "CIRCLE_PATTERNS",
+        "Circle Patterns",
+        "Conformal map by circle patterns on the intrinsic Delaunay triangulation (Kharevych et al. 2006); free boundary",
+    ),
     ("INTRINSIC", "Intrinsic (λ, μ)", "λ·discrete conformal + μ·discrete authalic weights, fixed boundary (Desbrun et al. 2002)"),
     ("MEAN_VALUE", "Mean Value", "Floater's mean value coordinates, boundary fixed on a circle or square; never flips"),
     ("SLIM", "SLIM (symmetric Dirichlet)", "Isometric free-boundary map minimised by SLIM (Rabinovich et al. 2017); never flips"),
@@ -285,6 +290,12 @@ class UnwrapRun:
             # The two pins farthest apart replace the automatic pair of the reconstruction;
             # further pins keep their UVs but do not constrain it.
             uv, _ = uvflat.abf(p, t, variant="abf++", pins=pair, progress=progress)
+            if pair is not None:
+                return uv, len(pins) - 2
+        elif method == "CIRCLE_PATTERNS":
+            # As for ABF++: the two pins farthest apart place the map, further pins keep their
+            # UVs without constraining it.
+            uv, _ = uvflat.circle_pattern_map(p, t, pins=pair, progress=progress)
             if pair is not None:
                 return uv, len(pins) - 2
         elif method in _NONLINEAR:

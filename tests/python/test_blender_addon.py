@@ -470,6 +470,7 @@ def test_one_pin_keeps_its_island_in_place():
         {"method": "CONFORMAL"},
         {"method": "NATURAL_CONFORMAL", "pack": True, "margin": 0.02},
         {"method": "ABF_PLUS_PLUS"},
+        {"method": "CIRCLE_PATTERNS"},
         {"method": "SLIM", "iterations": 20},
         {"method": "STRETCH", "iterations": 20},
         {"method": "ARAP", "iterations": 20},
