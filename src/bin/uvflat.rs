@@ -603,17 +603,21 @@ fn parse_cones(values: &[String]) -> Result<Vec<(u32, f64)>, Failure> {
         .collect()
 }
 
-/// `--method circle-patterns --cone ...`: the cone map, cut through its cones, per-corner UVs.
-fn unwrap_cone_map(args: &UnwrapArgs, obj: &ObjMesh, mesh: &TriMesh, start: Instant) -> Result<(), Failure> {
-    let cones = parse_cones(&args.cones)?;
+/// The circle-pattern options of `--no-intrinsic-delaunay` and `--corner`.
+fn circle_pattern_options(args: &UnwrapArgs, mesh: &TriMesh) -> Result<CirclePatternOptions, Failure> {
     let boundary_curvature =
         if args.corners.is_empty() { None } else { Some(polygon_boundary_curvature(mesh, &args.corners)?) };
-    let options = CirclePatternOptions {
+    Ok(CirclePatternOptions {
         intrinsic_delaunay: !args.no_intrinsic_delaunay,
         boundary_curvature,
         ..CirclePatternOptions::default()
-    };
-    let result = circle_pattern_cone_map(mesh, &cones, &options, &mut Progress::none())?;
+    })
+}
+
+/// `--method circle-patterns --cone ...`: the cone map, cut through its cones, per-corner UVs.
+fn unwrap_cone_map(args: &UnwrapArgs, obj: &ObjMesh, mesh: &TriMesh, start: Instant) -> Result<(), Failure> {
+    let cones = parse_cones(&args.cones)?;
+    let result = circle_pattern_cone_map(mesh, &cones, &circle_pattern_options(args, mesh)?, &mut Progress::none())?;
     let seconds = start.elapsed().as_secs_f64();
     let uv: Vec<[f64; 2]> = result.corner_uv.iter().flatten().copied().collect();
     let uv_triangles: Vec<[u32; 3]> =
@@ -1280,14 +1284,7 @@ fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<(Vec<[f64; 2]>, serde
             return Ok((r.uv, extra));
         }
         MethodName::CirclePatterns => {
-            let boundary_curvature =
-                if args.corners.is_empty() { None } else { Some(polygon_boundary_curvature(mesh, &args.corners)?) };
-            let options = CirclePatternOptions {
-                intrinsic_delaunay: !args.no_intrinsic_delaunay,
-                boundary_curvature,
-                ..CirclePatternOptions::default()
-            };
-            let r = circle_pattern_map(mesh, &options, &mut Progress::none())?;
+            let r = circle_pattern_map(mesh, &circle_pattern_options(args, mesh)?, &mut Progress::none())?;
             let p = r.report;
             if !args.json {
                 println!(
