@@ -655,8 +655,8 @@ typedef struct UvfCirclePatternOptions {
    */
   size_t struct_size;
   /**
-   * Newton steps allowed for the radii, and for each barrier stage of the angles (default
-   * 100; ≥ 1).
+   * Newton steps allowed for the radii, for the primal–dual angle solve (at most 40) and
+   * for each barrier stage of its fallback (default 100; ≥ 1).
    */
   uint32_t max_iterations;
   /**
@@ -707,7 +707,8 @@ typedef struct UvfCirclePatternOptions {
  */
 typedef struct UvfCirclePatternReport {
   /**
-   * Newton steps of the angle program (all barrier stages).
+   * Iterations of the angle program: primal–dual steps, plus the log-barrier Newton steps
+   * where it fell back.
    */
   uint32_t angle_iterations;
   /**
@@ -1792,7 +1793,8 @@ void uvf_circle_pattern_options_default(struct UvfCirclePatternOptions *options)
  * free boundary: the edges flipped to the intrinsic Delaunay triangulation of the mesh's
  * metric (paper §4; `intrinsic_delaunay`), planar angles from the paper's quadratic program
  * (closest to the 3D angles under the triangle and interior-vertex sums, positivity and the
- * local Delaunay condition, solved by a log barrier), the intersection angles of the
+ * local Delaunay condition, solved by a primal–dual interior-point method, or a log barrier
+ * where rounding stops it), the intersection angles of the
  * triangles' circumcircles from them, the log radii as the minimizer of the paper's convex
  * energy (Newton), and the layout of the pattern's triangles. Every planar angle of the
  * pattern is in (0, π) and they close around every interior vertex; the mesh's triangles take

@@ -17,8 +17,8 @@ use std::os::raw::c_void;
 pub struct UvfCirclePatternOptions {
     /// `sizeof(UvfCirclePatternOptions)`, set by the default initialiser.
     pub struct_size: usize,
-    /// Newton steps allowed for the radii, and for each barrier stage of the angles (default
-    /// 100; ≥ 1).
+    /// Newton steps allowed for the radii, for the primal–dual angle solve (at most 40) and
+    /// for each barrier stage of its fallback (default 100; ≥ 1).
     pub max_iterations: u32,
     /// Stop the radii when every circle closes to within this angle in radians (default 1e-11;
     /// > 0).
@@ -69,7 +69,8 @@ impl Default for UvfCirclePatternOptions {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfCirclePatternReport {
-    /// Newton steps of the angle program (all barrier stages).
+    /// Iterations of the angle program: primal–dual steps, plus the log-barrier Newton steps
+    /// where it fell back.
     pub angle_iterations: u32,
     /// Newton steps of the radii.
     pub radius_iterations: u32,
@@ -102,7 +103,8 @@ pub unsafe extern "C" fn uvf_circle_pattern_options_default(options: *mut UvfCir
 /// free boundary: the edges flipped to the intrinsic Delaunay triangulation of the mesh's
 /// metric (paper §4; `intrinsic_delaunay`), planar angles from the paper's quadratic program
 /// (closest to the 3D angles under the triangle and interior-vertex sums, positivity and the
-/// local Delaunay condition, solved by a log barrier), the intersection angles of the
+/// local Delaunay condition, solved by a primal–dual interior-point method, or a log barrier
+/// where rounding stops it), the intersection angles of the
 /// triangles' circumcircles from them, the log radii as the minimizer of the paper's convex
 /// energy (Newton), and the layout of the pattern's triangles. Every planar angle of the
 /// pattern is in (0, π) and they close around every interior vertex; the mesh's triangles take

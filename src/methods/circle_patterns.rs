@@ -28,11 +28,13 @@
 //! The angles α come from the paper's quadratic program (§4, course notes §4.4): minimize
 //! Σ (α_a − β_a)² / β_a² (β = the 3D angles) subject to the triangle sums π, the interior
 //! vertex sums 2π, α > 0 and the local Delaunay condition α_a + α_b < π on every interior edge
-//! (θ_e < π). The paper hands it to a QP solver; here a log-barrier interior-point method
-//! solves it: Newton steps on t·f(α) − Σ ln α_a − Σ_e ln(π − α_a − α_b) under the linear
-//! equalities, t × 100 from 1 to 10⁸. Each corner is opposite one edge, so the Hessian is
-//! diagonal with 2×2 blocks (the two corners of an interior edge), and each step solves the
-//! Schur complement J H⁻¹ Jᵀ over triangles and interior vertices by sparse Cholesky.
+//! (θ_e < π). The paper hands it to a QP solver; here a primal–dual interior-point method
+//! solves it (`angle_ipm.rs`, 6–10 iterations), and where rounding stops that, a log-barrier
+//! method: Newton steps on t·f(α) − Σ ln α_a − Σ_e ln(π − α_a − α_b) under the linear
+//! equalities, t × 100 from 1 to 10⁸. Each corner is opposite one edge, so the Hessian of
+//! either is diagonal with 2×2 blocks (the two corners of an interior edge), and each step
+//! solves the Schur complement J H⁻¹ Jᵀ over triangles and constrained vertices by sparse
+//! Cholesky.
 //! As in the paper (§4), the edges are first flipped to an intrinsic Delaunay triangulation of
 //! the mesh's metric ([`crate::mesh::intrinsic_delaunay`], on by default), so that the 3D
 //! angles already meet the Delaunay condition and θ is a conformal invariant: the program then
@@ -60,6 +62,7 @@ use faer::sparse::SparseColMat;
 use faer::Mat;
 use std::f64::consts::PI;
 
+mod angle_ipm;
 mod angle_sums;
 mod cones;
 pub use angle_sums::polygon_boundary_curvature;
@@ -77,7 +80,8 @@ pub struct CirclePatternOptions {
     /// Two boundary vertices and their uv; `None` pins the farthest boundary pair at (0, 0)
     /// and (d, 0), d their 3D distance (the map is only determined up to a similarity).
     pub pins: Option<[Pin; 2]>,
-    /// Newton iterations allowed for the radii (each also for every centering of the angles).
+    /// Newton iterations allowed for the radii, for the primal–dual angle solve (at most 40) and
+    /// for every centering of its log-barrier fallback.
     pub max_iterations: u32,
     /// Stop the radii when every circle closes to within this angle (radians), or below 10⁻⁸
     /// when a Newton step no longer halves the largest gap (rounding).
@@ -108,7 +112,8 @@ impl Default for CirclePatternOptions {
 /// What [`circle_pattern_map`] reports.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct CirclePatternReport {
-    /// Newton steps of the angle program (all barrier stages).
+    /// Iterations of the angle program: primal–dual steps, plus the log-barrier Newton steps
+    /// where it fell back.
     pub angle_iterations: u32,
     /// Newton steps of the radii.
     pub radius_iterations: u32,
@@ -220,7 +225,15 @@ fn solve_pattern(
     let work = &surface.mesh;
     let beta: Vec<f64> = surface.angles.iter().flatten().copied().collect();
     let program = AngleProgram::new(work, &beta, sums);
-    let (alpha, angle_iterations) = program.solve(options.max_iterations, progress)?;
+    // The primal–dual method (6–10 iterations where it converges); the log-barrier path when
+    // rounding stops it (active Delaunay constraints by the thousand, see angle_ipm.rs).
+    let (alpha, angle_iterations) = match program.solve_primal_dual(options.max_iterations, progress)? {
+        (Some(alpha), iterations) => (alpha, iterations),
+        (None, tried) => {
+            let (alpha, iterations) = program.solve(options.max_iterations, progress)?;
+            (alpha, tried + iterations)
+        }
+    };
     progress.report(0.6)?;
     let theta = intersection_angles(work, &alpha);
     let mut rho = circumradius_logs(&surface.lengths, &surface.angles);
@@ -454,7 +467,8 @@ fn triangle_centroids(mesh: &TriMesh) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// The quadratic program for the planar angles (see the module comment), by a log barrier.
+/// The quadratic program for the planar angles (see the module comment): the log-barrier
+/// solve here, the primal–dual one in `angle_ipm.rs`.
 struct AngleProgram {
     /// 3D angles, one per corner (3t + k).
     beta: Vec<f64>,
@@ -566,13 +580,19 @@ impl AngleProgram {
     /// 1 / h (stored as p with q = r = 0 for its own index).
     fn inverse_blocks(&self, t: f64, alpha: &[f64]) -> Vec<[f64; 3]> {
         let own: Vec<f64> = (0..alpha.len()).map(|a| t * self.weight[a] + (alpha[a] - MIN_ANGLE).powi(-2)).collect();
+        let coupling: Vec<f64> =
+            self.pairs.iter().map(|[a, b]| delaunay_slack(alpha[*a as usize], alpha[*b as usize]).powi(-2)).collect();
+        self.blocks_inverse(&own, &coupling)
+    }
+
+    /// The inverse blocks of H = diag(own) + Σ_pairs c_e (e_a + e_b)(e_a + e_b)ᵀ.
+    fn blocks_inverse(&self, own: &[f64], coupling: &[f64]) -> Vec<[f64; 3]> {
         let mut inv: Vec<[f64; 3]> = own.iter().map(|h| [1.0 / h, 0.0, 0.0]).collect();
-        for [a, b] in &self.pairs {
+        for ([a, b], &c) in self.pairs.iter().zip(coupling) {
             let (a, b) = (*a as usize, *b as usize);
-            let s = delaunay_slack(alpha[a], alpha[b]);
-            let c = 1.0 / (s * s);
             let (x, y) = (own[a] + c, own[b] + c);
-            let det = x * y - c * c;
+            // x y − c² without the cancellation of large c (an active Delaunay constraint).
+            let det = own[a] * own[b] + c * (own[a] + own[b]);
             // inverse of [[x, c], [c, y]]: [[y, −c], [−c, x]] / det, stored at both corners.
             inv[a] = [y / det, -c / det, x / det];
             inv[b] = [x / det, -c / det, y / det];
@@ -645,19 +665,40 @@ impl AngleProgram {
     fn newton_step(&self, t: f64, alpha: &[f64], pattern: &mut Option<CholeskyPattern>) -> Result<(Vec<f64>, f64)> {
         let g = self.gradient(t, alpha);
         let inv = self.inverse_blocks(t, alpha);
-        let hg = self.apply_inverse(&inv, &g);
-        let residual: Vec<f64> = self.apply_j(alpha).iter().zip(&self.targets).map(|(x, c)| x - c).collect();
-        let jhg = self.apply_j(&hg);
-        let (diag, entries) = self.schur(&inv);
-        let lower = lower_from_entries(&diag, entries)?;
-        let solver = factor_reusing(pattern, &lower, &self.row_points)?;
-        let mut nu = Mat::from_fn(self.rows, 1, |r, _| residual[r] - jhg[r]);
-        solver.solve_in_place(&mut nu)?;
-        let nu: Vec<f64> = (0..self.rows).map(|r| nu[(r, 0)]).collect();
-        let rhs: Vec<f64> = g.iter().zip(self.apply_jt(&nu)).map(|(a, b)| a + b).collect();
-        let step: Vec<f64> = self.apply_inverse(&inv, &rhs).iter().map(|x| -x).collect();
+        let solver = self.factor_schur(&inv, pattern)?;
+        let (step, _) = self.kkt_step(&solver, &inv, &g, &self.equality_residual(alpha))?;
         let decrement = -g.iter().zip(&step).map(|(a, b)| a * b).sum::<f64>();
         Ok((step, decrement))
+    }
+
+    /// J α − c.
+    fn equality_residual(&self, alpha: &[f64]) -> Vec<f64> {
+        self.apply_j(alpha).iter().zip(&self.targets).map(|(x, c)| x - c).collect()
+    }
+
+    /// The factored Schur complement J H⁻¹ Jᵀ of the blocks `inv` = H⁻¹.
+    fn factor_schur(&self, inv: &[[f64; 3]], pattern: &mut Option<CholeskyPattern>) -> Result<CholeskySolver<f64>> {
+        let (diag, entries) = self.schur(inv);
+        let lower = lower_from_entries(&diag, entries)?;
+        factor_reusing(pattern, &lower, &self.row_points)
+    }
+
+    /// The solution (Δα, Δν) of [H Jᵀ; J 0] (Δα, Δν) = −(g, r) by the Schur complement:
+    /// (J H⁻¹ Jᵀ) Δν = r − J H⁻¹ g, Δα = −H⁻¹ (g + Jᵀ Δν).
+    fn kkt_step(
+        &self,
+        schur: &CholeskySolver<f64>,
+        inv: &[[f64; 3]],
+        g: &[f64],
+        r: &[f64],
+    ) -> Result<(Vec<f64>, Vec<f64>)> {
+        let jhg = self.apply_j(&self.apply_inverse(inv, g));
+        let mut nu = Mat::from_fn(self.rows, 1, |i, _| r[i] - jhg[i]);
+        schur.solve_in_place(&mut nu)?;
+        let nu: Vec<f64> = (0..self.rows).map(|i| nu[(i, 0)]).collect();
+        let rhs: Vec<f64> = g.iter().zip(self.apply_jt(&nu)).map(|(a, b)| a + b).collect();
+        let step = self.apply_inverse(inv, &rhs).iter().map(|x| -x).collect();
+        Ok((step, nu))
     }
 
     /// Largest s ≤ 1 keeping every slack positive (99% of the way to the boundary).

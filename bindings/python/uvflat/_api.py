@@ -719,7 +719,8 @@ def spectral_conformal_map(
 class CirclePatternReport:
     """What ``uvf_circle_pattern_map`` reports."""
 
-    #: Newton steps of the angle program (all barrier stages).
+    #: Iterations of the angle program: primal–dual steps, plus the log-barrier Newton steps
+    #: where it fell back.
     angle_iterations: int
     #: Newton steps of the log radii.
     radius_iterations: int
