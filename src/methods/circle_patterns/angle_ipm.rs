@@ -209,8 +209,8 @@ impl AngleProgram {
                 step = step.min(-STEP_FRACTION * value / change);
             }
         };
-        for a in 0..s.len() {
-            limit(s[a], d.alpha[a]);
+        for (a, &slack) in s.iter().enumerate() {
+            limit(slack, d.alpha[a]);
             limit(it.z[a], d.z[a]);
         }
         for (e, [a, b]) in self.pairs.iter().enumerate() {
