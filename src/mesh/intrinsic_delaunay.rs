@@ -113,10 +113,7 @@ pub fn intrinsic_delaunay_constrained(mesh: &TriMesh, constraints: &FlipConstrai
     let keep_boundary_fans = constraints.keep_boundary_fans;
     let fixed: HashSet<[u32; 2]> = constraints.fixed_edges.iter().map(|&[a, b]| edge_key(a, b)).collect();
     let triangles = mesh.triangles().to_vec();
-    let mut fan_size = vec![0u32; mesh.vertex_count()];
-    for v in triangles.iter().flatten() {
-        fan_size[*v as usize] += 1;
-    }
+    let mut fan_size = mesh.corner_counts();
     let thin_fan =
         |v: u32, fan_size: &[u32]| keep_boundary_fans && mesh.is_boundary_vertex(v) && fan_size[v as usize] <= 2;
     let lengths = edge_lengths(mesh);

@@ -128,6 +128,14 @@ impl TriMesh {
     pub fn boundary_loops(&self) -> &[Vec<u32>] {
         &self.loops
     }
+    /// Number of triangle corners at each vertex (0 for unreferenced vertices).
+    pub fn corner_counts(&self) -> Vec<u32> {
+        let mut counts = vec![0u32; self.vertex_count()];
+        for v in self.triangles.iter().flatten() {
+            counts[*v as usize] += 1;
+        }
+        counts
+    }
     /// Component id of each triangle.
     pub fn triangle_components(&self) -> &[u32] {
         &self.component

@@ -149,7 +149,7 @@ pub fn circle_pattern_map(
     check_tolerance(options)?;
     let (filled, options) = fill_holes_for_pattern(mesh, options)?;
     let disk = filled.as_ref().unwrap_or(mesh);
-    if options.pins.is_none() {
+    if options.pins.is_none() && filled.is_some() {
         // Automatic pins on the filled disk's one loop: the input's farthest boundary pair may
         // sit on a hole, whose vertices are now interior. Measured on holes_chinese_dragon
         // (two 3-vertex loops at the two ends of a long body), without intrinsic flips: the

@@ -57,10 +57,7 @@ pub(super) fn vertex_sums(
 
 /// Each prescribed sum must be finite and in (d·MIN_ANGLE, d·π) for a vertex of d corners.
 fn check_ranges(mesh: &TriMesh, sums: &[f64]) -> Result<()> {
-    let mut corners = vec![0u32; mesh.vertex_count()];
-    for v in mesh.triangles().iter().flatten() {
-        corners[*v as usize] += 1;
-    }
+    let corners = mesh.corner_counts();
     for (v, &sum) in sums.iter().enumerate().filter(|(_, s)| !s.is_nan()) {
         let d = corners[v] as f64;
         if !(sum.is_finite() && sum > d * MIN_ANGLE && sum < d * PI) {
@@ -107,10 +104,7 @@ pub fn polygon_boundary_curvature(mesh: &TriMesh, corners: &[u32]) -> Result<Vec
     if corners.len() < 3 {
         return Err(Error::InvalidArgument(format!("a polygon needs at least 3 corners (got {})", corners.len())));
     }
-    let mut fan = vec![0u32; mesh.vertex_count()];
-    for v in mesh.triangles().iter().flatten() {
-        fan[*v as usize] += 1;
-    }
+    let fan = mesh.corner_counts();
     let mut curvature = vec![f64::NAN; mesh.vertex_count()];
     let mut on_loop = vec![false; mesh.vertex_count()];
     for &v in lp {
