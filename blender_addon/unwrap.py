@@ -154,7 +154,11 @@ class UnwrapRun:
         me = obj.data
         if me.uv_layers.active is None:
             me.uv_layers.new(name="UVMap")
-        layer = me.uv_layers.active
+        # The layer is looked up by name at every use (`_uv_layer`), never kept: reading its
+        # pin or selection attributes may create them, which reallocates the mesh's layer array
+        # and leaves an earlier `MeshUVLoopLayer` reference dangling (Blender 4.5 crashed in
+        # `layer.uv.foreach_set` on the second unwrap of a mesh that had no UV map before).
+        layer_name = me.uv_layers.active.name
         n_loops, n_polys = len(me.loops), len(me.polygons)
         me.calc_loop_triangles()
         positions = _get(me.vertices, "co", np.float32, len(me.vertices), 3).astype(np.float64)
@@ -173,9 +177,10 @@ class UnwrapRun:
         # The attribute accessors (uv, pin, vertex_selection, edge_selection), not the legacy
         # `layer.data` wrappers: in Blender 4.5, `layer.data.foreach_set("select", ...)`
         # corrupts memory.
-        uv = _get(layer.uv, "vector", np.float32, n_loops, 2).astype(np.float64)
-        pinned = _get(layer.pin, "value", bool, n_loops) if len(layer.pin) == n_loops else np.zeros(n_loops, bool)
-        self.meshes.append((obj, me, layer, uv, pinned, image_aspect(obj) if correct_aspect else 1.0))
+        uv = _get(_uv_layer(me, layer_name).uv, "vector", np.float32, n_loops, 2).astype(np.float64)
+        pin = _uv_layer(me, layer_name).pin
+        pinned = _get(pin, "value", bool, n_loops) if len(pin) == n_loops else np.zeros(n_loops, bool)
+        self.meshes.append((obj, me, layer_name, uv, pinned, image_aspect(obj) if correct_aspect else 1.0))
         self.jobs.extend(_Job.of(k, island, uv, pinned) for island in split.islands)
 
     # --- solve (any thread) ------------------------------------------------------------------
@@ -295,7 +300,8 @@ class UnwrapRun:
         elif method == "CIRCLE_PATTERNS":
             # As for ABF++: the two pins farthest apart place the map, further pins keep their
             # UVs without constraining it.
-            uv, _ = uvflat.circle_pattern_map(p, t, pins=pair, progress=progress)
+            convex = self.settings.get("convex_boundary", False)
+            uv, _ = uvflat.circle_pattern_map(p, t, pins=pair, convex_boundary=convex, progress=progress)
             if pair is not None:
                 return uv, len(pins) - 2
         elif method in _NONLINEAR:
@@ -350,8 +356,8 @@ class UnwrapRun:
             free_loops = ~pinned[loops]
             uv[loops[free_loops]] = job.uv[job.island.loop_vertex[free_loops]]
             unwrapped_polys[job.obj_index] = np.concatenate([unwrapped_polys[job.obj_index], job.island.polys])
-        for k, (obj, me, layer, uv, pinned, _) in enumerate(self.meshes):
-            layer.uv.foreach_set("vector", uv.astype(np.float32).ravel())
+        for k, (obj, me, layer_name, uv, pinned, _) in enumerate(self.meshes):
+            _uv_layer(me, layer_name).uv.foreach_set("vector", uv.astype(np.float32).ravel())
             # Select the UVs of unwrapped faces (as Blender's unwrap leaves them), so Pack
             # Islands and the UV editor see them.
             sel = np.zeros(len(me.loops), dtype=bool)
@@ -361,7 +367,8 @@ class UnwrapRun:
             if len(polys):
                 idx = np.repeat(starts[polys], totals[polys]) + _ramp(totals[polys])
                 sel[idx] = True
-                for selection in (layer.vertex_selection, layer.edge_selection):
+                for kind in ("vertex_selection", "edge_selection"):
+                    selection = getattr(_uv_layer(me, layer_name), kind)
                     selection.foreach_set("value", _get(selection, "value", bool, len(me.loops)) | sel)
             me.update()
         return unwrapped_polys
@@ -415,6 +422,11 @@ class UnwrapRun:
         }
 
 
+def _uv_layer(me: Any, name: str) -> Any:
+    """The mesh's UV map `name`, looked up afresh (see `UnwrapRun._read`)."""
+    return me.uv_layers[name]
+
+
 def _farthest_pin_pair(pins: np.ndarray, pin_uv: np.ndarray) -> Optional[Tuple[Tuple[int, Tuple[float, float]], ...]]:
     """The two pins farthest apart in UV as ``((v, (u, v)), (v, (u, v)))``, or None when there
     are fewer than two distinct pinned positions."""
@@ -457,6 +469,12 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
     iterations: IntProperty(  # type: ignore[valid-type]
         name="Iterations", default=100, min=1, soft_max=1000, description="Iteration limit of SLIM, stretch and ARAP"
     )
+    convex_boundary: BoolProperty(  # type: ignore[valid-type]
+        name="Convex Boundary",
+        default=False,
+        description="Circle Patterns: keep each island's UV boundary convex, so the island cannot overlap "
+        "itself (more distortion where its boundary is concave)",
+    )
     cut_closed: BoolProperty(  # type: ignore[valid-type]
         name="Cut Closed Islands",
         default=True,
@@ -486,6 +504,8 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
             layout.prop(self, "mu")
         if self.method in _NONLINEAR:
             layout.prop(self, "iterations")
+        if self.method == "CIRCLE_PATTERNS":
+            layout.prop(self, "convex_boundary")
         layout.prop(self, "cut_closed")
         layout.prop(self, "correct_aspect")
         layout.prop(self, "pack")
@@ -592,6 +612,7 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
             "mu": self.mu,
             "iterations": self.iterations,
             "cut_closed": self.cut_closed,
+            "convex_boundary": self.convex_boundary,
         }
 
     def _pack(self, objects: List[bpy.types.Object], summary: Dict[str, Any]) -> None:

@@ -700,6 +700,13 @@ typedef struct UvfCirclePatternOptions {
    * 2006 §5). `uvf_circle_pattern_polygon_curvature` fills it for a convex polygon.
    */
   const double *boundary_curvature;
+  /**
+   * 1: keep the uv boundary convex (the paper's inequality constraints on the boundary
+   * angles): every boundary vertex whose curvature is not prescribed turns by at least 0, so
+   * the pattern embeds its triangulation (a local immersion with a convex boundary). 0: free
+   * (default).
+   */
+  uint32_t convex_boundary;
 } UvfCirclePatternOptions;
 
 /**
@@ -736,6 +743,12 @@ typedef struct UvfCirclePatternReport {
    * Mesh triangles whose uv area is not positive (always 0 with `intrinsic_delaunay` = 0).
    */
   uint32_t flipped_triangles;
+  /**
+   * log₁₀ of the largest over the smallest circle radius: the orders of magnitude the map's
+   * scale spans (3–4 on typical free maps). Beyond about 12 the layout loses the smallest
+   * triangles to double-precision rounding (counted in `flipped_triangles` or degenerate).
+   */
+  double radius_span;
 } UvfCirclePatternReport;
 
 /**

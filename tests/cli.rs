@@ -255,6 +255,18 @@ fn circle_patterns_flip_to_intrinsic_delaunay_unless_told_not_to() {
     let side = ((c[0] - a[0]).powi(2) + (c[1] - a[1]).powi(2)).sqrt();
     // OBJ text keeps about 9 significant digits.
     assert!(cross.abs() < 1e-6 * side * side, "vertex {} is off the side: {cross}", lp[1]);
+    // `--convex-boundary`: the written uv boundary turns left or goes straight at every vertex.
+    let convex = run(&["--convex-boundary"]);
+    assert_eq!(convex["boundary_intersections"], 0, "{convex}");
+    assert!(convex["radius_span"].as_f64().is_some_and(|s| s > 0.0 && s < 12.0), "{convex}");
+    let written = uvflat::io::obj::read_obj(&out).unwrap();
+    let uv = |v: u32| [written.uv[2 * v as usize], written.uv[2 * v as usize + 1]];
+    for i in 0..lp.len() {
+        let [a, b, c] = [lp[i], lp[(i + 1) % lp.len()], lp[(i + 2) % lp.len()]].map(uv);
+        let cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
+        let scale = (b[0] - a[0]).hypot(b[1] - a[1]) * (c[0] - b[0]).hypot(c[1] - b[1]);
+        assert!(cross > -1e-6 * scale, "the boundary turns right at vertex {}: {cross}", lp[(i + 1) % lp.len()]);
+    }
     let interior = (0..mesh.vertex_count() as u32).find(|&v| !mesh.is_boundary_vertex(v)).unwrap().to_string();
     let mut bad = vec!["unwrap", SAMPLE, "-o", out.to_str().unwrap(), "--method", "circle-patterns"];
     bad.extend(["--corner", &corners[0], "--corner", &corners[1], "--corner", &interior]);
@@ -317,6 +329,7 @@ fn options_that_do_not_apply_are_usage_errors() {
         vec!["unwrap", SAMPLE, "-o", out, "--method", "nonsense"],
         vec!["unwrap", SAMPLE, "-o", out, "--method", "abf", "--no-intrinsic-delaunay"],
         vec!["unwrap", SAMPLE, "-o", out, "--corner", "1", "--corner", "2", "--corner", "3"],
+        vec!["unwrap", SAMPLE, "-o", out, "--method", "natural-conformal", "--convex-boundary"],
     ] {
         let o = uvflat(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));

@@ -291,6 +291,11 @@ struct UnwrapArgs {
     /// longest boundary loop; 4 give a rectangle); default: free boundary.
     #[arg(long = "corner")]
     corners: Vec<u32>,
+    /// circle-patterns: keep the UV boundary convex (every boundary vertex turns by at least 0),
+    /// so the layout cannot overlap itself; with `--corner`, the polygon's own vertices keep
+    /// their prescribed turning.
+    #[arg(long = "convex-boundary")]
+    convex_boundary: bool,
     /// circle-patterns: a cone singularity `V:DEGREES` at interior vertex V, its curvature in
     /// degrees (360 minus the cone angle: 90 for a cube corner); repeat. The mesh is then cut
     /// through the cones (any genus; on a closed mesh the curvatures must sum to 360·χ) and the
@@ -603,13 +608,14 @@ fn parse_cones(values: &[String]) -> Result<Vec<(u32, f64)>, Failure> {
         .collect()
 }
 
-/// The circle-pattern options of `--no-intrinsic-delaunay` and `--corner`.
+/// The circle-pattern options of `--no-intrinsic-delaunay`, `--corner` and `--convex-boundary`.
 fn circle_pattern_options(args: &UnwrapArgs, mesh: &TriMesh) -> Result<CirclePatternOptions, Failure> {
     let boundary_curvature =
         if args.corners.is_empty() { None } else { Some(polygon_boundary_curvature(mesh, &args.corners)?) };
     Ok(CirclePatternOptions {
         intrinsic_delaunay: !args.no_intrinsic_delaunay,
         boundary_curvature,
+        convex_boundary: args.convex_boundary,
         ..CirclePatternOptions::default()
     })
 }
@@ -1205,9 +1211,11 @@ fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
         return Err(usage("--energy applies to --method intrinsic-optimal and boundary-optimized only"));
     }
     if method != MethodName::CirclePatterns
-        && (args.no_intrinsic_delaunay || !args.corners.is_empty() || !args.cones.is_empty())
+        && (args.no_intrinsic_delaunay || !args.corners.is_empty() || !args.cones.is_empty() || args.convex_boundary)
     {
-        return Err(usage("--no-intrinsic-delaunay, --corner and --cone apply to --method circle-patterns only"));
+        return Err(usage(
+            "--no-intrinsic-delaunay, --corner, --convex-boundary and --cone apply to --method circle-patterns only",
+        ));
     }
     if !args.cones.is_empty() && (args.cut.is_some() || !args.pins.is_empty()) {
         return Err(usage("--cone cuts the mesh through the cones itself: no --cut or --pin"));
@@ -1288,17 +1296,18 @@ fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<(Vec<[f64; 2]>, serde
             let p = r.report;
             if !args.json {
                 println!(
-                    "circle-patterns: {} intrinsic flips, {} angle and {} radius Newton steps, circles closed to {:.1e}, {} non-Delaunay edges, largest angle change {:.2} deg, {} flipped triangles",
+                    "circle-patterns: {} intrinsic flips, {} angle and {} radius Newton steps, circles closed to {:.1e}, {} non-Delaunay edges, largest angle change {:.2} deg, {} flipped triangles, radii span {:.1} decades",
                     p.intrinsic_flips,
                     p.angle_iterations,
                     p.radius_iterations,
                     p.closure_error,
                     p.non_delaunay_edges,
                     p.max_angle_change.to_degrees(),
-                    p.flipped_triangles
+                    p.flipped_triangles,
+                    p.radius_span
                 );
             }
-            let extra = serde_json::json!({"angle_iterations": p.angle_iterations, "radius_iterations": p.radius_iterations, "closure_error": p.closure_error, "non_delaunay_edges": p.non_delaunay_edges, "max_angle_change": p.max_angle_change, "intrinsic_flips": p.intrinsic_flips, "flipped_triangles": p.flipped_triangles});
+            let extra = serde_json::json!({"angle_iterations": p.angle_iterations, "radius_iterations": p.radius_iterations, "closure_error": p.closure_error, "non_delaunay_edges": p.non_delaunay_edges, "max_angle_change": p.max_angle_change, "intrinsic_flips": p.intrinsic_flips, "flipped_triangles": p.flipped_triangles, "radius_span": p.radius_span});
             return Ok((r.uv, extra));
         }
         MethodName::IntrinsicOptimal => {

@@ -45,6 +45,11 @@ pub struct UvfCirclePatternOptions {
     /// are ignored. A fully prescribed boundary must sum to 2π (1 − holes) (Kharevych et al.
     /// 2006 §5). `uvf_circle_pattern_polygon_curvature` fills it for a convex polygon.
     pub boundary_curvature: *const f64,
+    /// 1: keep the uv boundary convex (the paper's inequality constraints on the boundary
+    /// angles): every boundary vertex whose curvature is not prescribed turns by at least 0, so
+    /// the pattern embeds its triangulation (a local immersion with a convex boundary). 0: free
+    /// (default).
+    pub convex_boundary: u32,
 }
 
 impl Default for UvfCirclePatternOptions {
@@ -61,6 +66,7 @@ impl Default for UvfCirclePatternOptions {
             progress_user: std::ptr::null_mut(),
             intrinsic_delaunay: d.intrinsic_delaunay as u32,
             boundary_curvature: std::ptr::null(),
+            convex_boundary: d.convex_boundary as u32,
         }
     }
 }
@@ -85,6 +91,10 @@ pub struct UvfCirclePatternReport {
     pub intrinsic_flips: u32,
     /// Mesh triangles whose uv area is not positive (always 0 with `intrinsic_delaunay` = 0).
     pub flipped_triangles: u32,
+    /// log₁₀ of the largest over the smallest circle radius: the orders of magnitude the map's
+    /// scale spans (3–4 on typical free maps). Beyond about 12 the layout loses the smallest
+    /// triangles to double-precision rounding (counted in `flipped_triangles` or degenerate).
+    pub radius_span: f64,
 }
 
 /// Fills `options` with defaults (100 iterations, tolerance 1e-11, automatic pins, no callback,
@@ -166,6 +176,9 @@ unsafe fn options_from_c(
             o.intrinsic_delaunay
         )));
     }
+    if o.convex_boundary > 1 {
+        return Err(Error::InvalidArgument(format!("convex_boundary must be 0 or 1 (got {})", o.convex_boundary)));
+    }
     let boundary_curvature = if o.boundary_curvature.is_null() {
         None
     } else {
@@ -177,6 +190,7 @@ unsafe fn options_from_c(
         tolerance: o.tolerance,
         intrinsic_delaunay: o.intrinsic_delaunay == 1,
         boundary_curvature,
+        convex_boundary: o.convex_boundary == 1,
     };
     Ok((o, opts))
 }
@@ -197,6 +211,7 @@ unsafe fn write_report(report: &CirclePatternReport, report_out: *mut UvfCircleP
             max_angle_change: r.max_angle_change,
             intrinsic_flips: r.intrinsic_flips,
             flipped_triangles: r.flipped_triangles,
+            radius_span: r.radius_span,
         });
     }
 }

@@ -95,6 +95,12 @@ pub struct CirclePatternOptions {
     /// `None` (default): free boundary. [`polygon_boundary_curvature`] makes a convex polygon
     /// with given corners.
     pub boundary_curvature: Option<Vec<f64>>,
+    /// Keep the uv boundary convex (the paper's inequality constraints on the boundary angles,
+    /// course notes §4.4): at every boundary vertex whose curvature is not prescribed, the
+    /// turning angle is at least 0 (the angle sum at most π). The pattern is then an embedding
+    /// of the triangulation it is built on: a local immersion whose boundary is a closed convex
+    /// polygon. Default false.
+    pub convex_boundary: bool,
 }
 
 impl Default for CirclePatternOptions {
@@ -105,6 +111,7 @@ impl Default for CirclePatternOptions {
             tolerance: 1e-11,
             intrinsic_delaunay: true,
             boundary_curvature: None,
+            convex_boundary: false,
         }
     }
 }
@@ -128,6 +135,12 @@ pub struct CirclePatternReport {
     pub intrinsic_flips: u32,
     /// Triangles of the mesh whose uv area is not positive (0 without intrinsic flips).
     pub flipped_triangles: u32,
+    /// log₁₀ of the ratio of the largest to the smallest circle radius: how many orders of
+    /// magnitude the map's scale spans (3–4 on the free maps of the disk meshes). Beyond about
+    /// 12 the layout, in double precision, loses the smallest triangles to rounding (flipped
+    /// or degenerate): e.g. a convex boundary forced on a long winding strip, whose conformal
+    /// map onto a convex domain shrinks it exponentially along its length.
+    pub radius_span: f64,
 }
 
 /// Circle-pattern parameterization: one uv per vertex (NaN for unreferenced vertices).
@@ -224,20 +237,23 @@ fn solve_pattern(
 ) -> Result<(Vec<[f64; 3]>, CirclePatternReport)> {
     let work = &surface.mesh;
     let beta: Vec<f64> = surface.angles.iter().flatten().copied().collect();
-    let program = AngleProgram::new(work, &beta, sums);
+    let bounds = angle_sums::convex_bounds(work, sums, options.convex_boundary)?;
+    let program = AngleProgram::new(work, &beta, sums, &bounds);
     // The primal–dual method (6–10 iterations where it converges); the log-barrier path when
     // rounding stops it (active Delaunay constraints by the thousand, see angle_ipm.rs).
-    let (alpha, angle_iterations) = match program.solve_primal_dual(options.max_iterations, progress)? {
+    let (mut alpha, angle_iterations) = match program.solve_primal_dual(options.max_iterations, progress)? {
         (Some(alpha), iterations) => (alpha, iterations),
         (None, tried) => {
             let (alpha, iterations) = program.solve(options.max_iterations, progress)?;
             (alpha, tried + iterations)
         }
     };
+    alpha.truncate(beta.len());
     progress.report(0.6)?;
     let theta = intersection_angles(work, &alpha);
     let mut rho = circumradius_logs(&surface.lengths, &surface.angles);
     let radius_iterations = solve_radii(work, &theta, &mut rho, options, progress)?;
+    let (smallest, largest) = rho.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(*r), b.max(*r)));
     let phi = kite_angles(work, &theta, &rho);
     let closure_error = phi.iter().map(|p| (p.iter().sum::<f64>() - PI).abs()).fold(0.0, f64::max);
     let angles: Vec<[f64; 3]> = phi.iter().map(|p| [p[1], p[2], p[0]]).collect();
@@ -249,6 +265,7 @@ fn solve_pattern(
         max_angle_change: alpha.iter().zip(&beta).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max),
         intrinsic_flips: surface.flips,
         flipped_triangles: 0,
+        radius_span: (largest - smallest) / std::f64::consts::LN_10,
     };
     Ok((angles, report))
 }
@@ -470,13 +487,20 @@ fn triangle_centroids(mesh: &TriMesh) -> Vec<[f64; 3]> {
 /// The quadratic program for the planar angles (see the module comment): the log-barrier
 /// solve here, the primal–dual one in `angle_ipm.rs`.
 struct AngleProgram {
-    /// 3D angles, one per corner (3t + k).
+    /// Number of corners (3 per triangle): the first variables, the angles α.
+    corners: usize,
+    /// Per variable, the value it is kept above: [`MIN_ANGLE`] for an angle, 0 for a slack.
+    lower: Vec<f64>,
+    /// 3D angles, one per corner (3t + k), then 0 for every slack variable.
     beta: Vec<f64>,
-    /// Objective weights 1 / β².
+    /// Objective weights 1 / β², then 0 for every slack variable.
     weight: Vec<f64>,
+    /// Per slack variable (after the corners), its vertex row: an inequality Σ α ≤ bound at a
+    /// boundary vertex (the turning there ≥ π − bound) is the row Σ α + σ = bound, σ ≥ 0.
+    slack_row: Vec<u32>,
     /// The two corners opposite each interior edge.
     pairs: Vec<[u32; 2]>,
-    /// For each corner, its pair, or NONE when it is opposite a boundary edge.
+    /// For each variable, its pair, or NONE (a corner opposite a boundary edge, a slack).
     pair_of: Vec<u32>,
     /// Constraint row of each corner's vertex (after the triangle rows): interior vertices and
     /// boundary vertices with a prescribed curvature; NONE for the others.
@@ -496,8 +520,9 @@ fn delaunay_slack(a: f64, b: f64) -> f64 {
 }
 
 impl AngleProgram {
-    /// `sums`: per vertex, the angle sum to prescribe (NaN: free; see `angle_sums`).
-    fn new(mesh: &TriMesh, beta: &[f64], sums: &[f64]) -> Self {
+    /// `sums`: per vertex, the angle sum to prescribe (NaN: free; see `angle_sums`);
+    /// `bounds`: per vertex whose sum is free, an upper bound on it (NaN: none).
+    fn new(mesh: &TriMesh, beta: &[f64], sums: &[f64], bounds: &[f64]) -> Self {
         let twin = &mesh.connectivity().twin;
         let corners = beta.len();
         let mut pairs = Vec::new();
@@ -525,12 +550,29 @@ impl AngleProgram {
             row_points.push(mesh.points()[v as usize]);
             targets.push(sums[v as usize]);
         }
+        let mut slack_row = Vec::new();
+        for v in referenced().filter(|&v| sums[v as usize].is_nan() && !bounds[v as usize].is_nan()) {
+            row_of_vertex[v as usize] = row_points.len() as u32;
+            slack_row.push(row_points.len() as u32);
+            row_points.push(mesh.points()[v as usize]);
+            targets.push(bounds[v as usize]);
+        }
         let vertex_row = mesh.triangles().iter().flat_map(|t| t.map(|v| row_of_vertex[v as usize])).collect::<Vec<_>>();
-        let weight = beta.iter().map(|b| 1.0 / b.max(1e-6).powi(2)).collect();
+        let mut weight: Vec<f64> = beta.iter().map(|b| 1.0 / b.max(1e-6).powi(2)).collect();
         debug_assert_eq!(beta.len(), 3 * triangles);
+        let variables = corners + slack_row.len();
+        let mut lower = vec![MIN_ANGLE; corners];
+        lower.resize(variables, 0.0);
+        let mut beta = beta.to_vec();
+        beta.resize(variables, 0.0);
+        weight.resize(variables, 0.0);
+        pair_of.resize(variables, NONE);
         AngleProgram {
-            beta: beta.to_vec(),
+            corners,
+            lower,
+            beta,
             weight,
+            slack_row,
             pairs,
             pair_of,
             vertex_row,
@@ -546,27 +588,37 @@ impl AngleProgram {
 
     /// Slack of every inequality: the angles, then π − α_a − α_b per pair.
     fn slacks_positive(&self, alpha: &[f64]) -> bool {
-        alpha.iter().all(|&a| a > MIN_ANGLE)
+        alpha.iter().zip(&self.lower).all(|(a, l)| a > l)
             && self.pairs.iter().all(|[a, b]| delaunay_slack(alpha[*a as usize], alpha[*b as usize]) > 0.0)
     }
 
     /// A start strictly inside the inequalities, with exact triangle sums: the 3D angles
-    /// blended towards π/3 as little as needed.
+    /// blended towards π/3 as little as needed, and every slack what its row leaves, at least
+    /// 0.1 (the equalities need not hold at the start).
     fn start(&self) -> Vec<f64> {
-        for keep in [1.0, 0.9, 0.5, 0.0] {
-            let alpha: Vec<f64> = self.beta.iter().map(|b| keep * b + (1.0 - keep) * PI / 3.0).collect();
-            let margin = self.pairs.iter().all(|[a, b]| delaunay_slack(alpha[*a as usize], alpha[*b as usize]) > 1e-3);
-            if margin && alpha.iter().all(|&a| a > MIN_ANGLE + 1e-6) {
-                return alpha;
-            }
+        let corners = &self.beta[..self.corners];
+        let blend = |keep: f64| -> Vec<f64> { corners.iter().map(|b| keep * b + (1.0 - keep) * PI / 3.0).collect() };
+        let inside = |alpha: &[f64]| {
+            self.pairs.iter().all(|[a, b]| delaunay_slack(alpha[*a as usize], alpha[*b as usize]) > 1e-3)
+                && alpha.iter().all(|&a| a > MIN_ANGLE + 1e-6)
+        };
+        let mut alpha = [1.0, 0.9, 0.5, 0.0]
+            .into_iter()
+            .map(blend)
+            .find(|a| inside(a))
+            .unwrap_or_else(|| vec![PI / 3.0; self.corners]);
+        alpha.resize(self.beta.len(), 0.0);
+        let sums = self.apply_j(&alpha);
+        for (k, &row) in self.slack_row.iter().enumerate() {
+            alpha[self.corners + k] = (self.targets[row as usize] - sums[row as usize]).max(0.1);
         }
-        vec![PI / 3.0; self.beta.len()]
+        alpha
     }
 
     /// Gradient of t·f − Σ ln slack at α.
     fn gradient(&self, t: f64, alpha: &[f64]) -> Vec<f64> {
         let mut g: Vec<f64> = (0..alpha.len())
-            .map(|a| t * self.weight[a] * (alpha[a] - self.beta[a]) - 1.0 / (alpha[a] - MIN_ANGLE))
+            .map(|a| t * self.weight[a] * (alpha[a] - self.beta[a]) - 1.0 / (alpha[a] - self.lower[a]))
             .collect();
         for [a, b] in &self.pairs {
             let s = delaunay_slack(alpha[*a as usize], alpha[*b as usize]);
@@ -579,7 +631,8 @@ impl AngleProgram {
     /// The inverse Hessian blocks: per pair the 2×2 inverse [[p, q], [q, r]], per lone corner
     /// 1 / h (stored as p with q = r = 0 for its own index).
     fn inverse_blocks(&self, t: f64, alpha: &[f64]) -> Vec<[f64; 3]> {
-        let own: Vec<f64> = (0..alpha.len()).map(|a| t * self.weight[a] + (alpha[a] - MIN_ANGLE).powi(-2)).collect();
+        let own: Vec<f64> =
+            (0..alpha.len()).map(|a| t * self.weight[a] + (alpha[a] - self.lower[a]).powi(-2)).collect();
         let coupling: Vec<f64> =
             self.pairs.iter().map(|[a, b]| delaunay_slack(alpha[*a as usize], alpha[*b as usize]).powi(-2)).collect();
         self.blocks_inverse(&own, &coupling)
@@ -614,9 +667,15 @@ impl AngleProgram {
             .collect()
     }
 
-    /// The constraint rows touched by corner a.
+    /// The constraint rows touched by variable a: a corner's triangle and vertex rows, a
+    /// slack's vertex row.
     fn rows_of(&self, a: usize) -> impl Iterator<Item = usize> + '_ {
-        std::iter::once(a / 3).chain((self.vertex_row[a] != NONE).then_some(self.vertex_row[a] as usize))
+        let (first, second) = if a < self.corners {
+            (a / 3, self.vertex_row[a])
+        } else {
+            (self.slack_row[a - self.corners] as usize, NONE)
+        };
+        std::iter::once(first).chain((second != NONE).then_some(second as usize))
     }
 
     fn apply_j(&self, v: &[f64]) -> Vec<f64> {
@@ -704,9 +763,9 @@ impl AngleProgram {
     /// Largest s ≤ 1 keeping every slack positive (99% of the way to the boundary).
     fn max_step(&self, alpha: &[f64], step: &[f64]) -> f64 {
         let mut s: f64 = 1.0;
-        for (a, d) in alpha.iter().zip(step) {
+        for ((a, d), l) in alpha.iter().zip(step).zip(&self.lower) {
             if *d < 0.0 {
-                s = s.min(-0.99 * (a - MIN_ANGLE) / d);
+                s = s.min(-0.99 * (a - l) / d);
             }
         }
         for [a, b] in &self.pairs {
@@ -778,7 +837,7 @@ impl AngleProgram {
     fn backtrack(&self, t: f64, alpha: &[f64], step: &[f64], mut s: f64) -> f64 {
         let value = |x: &[f64]| -> f64 {
             let mut v: f64 = (0..x.len())
-                .map(|a| 0.5 * t * self.weight[a] * (x[a] - self.beta[a]).powi(2) - (x[a] - MIN_ANGLE).ln())
+                .map(|a| 0.5 * t * self.weight[a] * (x[a] - self.beta[a]).powi(2) - (x[a] - self.lower[a]).ln())
                 .sum();
             for [a, b] in &self.pairs {
                 v -= delaunay_slack(x[*a as usize], x[*b as usize]).ln();

@@ -356,8 +356,22 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
         UvfCirclePatternReport circles_report;
         uvf_circle_pattern_options_default(&circles);
         check(circles.struct_size == sizeof circles && circles.max_iterations > 0 && circles.pin_count == 0 &&
-                  circles.intrinsic_delaunay == 1,
+                  circles.intrinsic_delaunay == 1 && circles.convex_boundary == 0,
               "circle pattern defaults");
+        circles.convex_boundary = 1;
+        check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, &circles_report) == UVF_OK &&
+                  circles_report.closure_error < 1e-9 && circles_report.radius_span >= 0.0 &&
+                  circles_report.radius_span < 12.0,
+              "circle pattern map with a convex boundary");
+        check(uvf_metrics(positions, nv, triangles, nt, uv, nv, NULL, &metrics) == UVF_OK &&
+                  metrics.boundary_intersections == 0,
+              "circle pattern map with a convex boundary does not cross its boundary");
+        circles.convex_boundary = 2;
+        uv[0] = 42.0;
+        check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, NULL) == UVF_INVALID_ARGUMENT &&
+                  uv[0] == 42.0,
+              "convex_boundary other than 0 or 1 refused, output untouched");
+        circles.convex_boundary = 0;
         check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, &circles_report) == UVF_OK &&
                   circles_report.closure_error < 1e-9,
               "circle pattern map succeeds with every circle closed");

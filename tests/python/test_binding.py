@@ -1309,6 +1309,30 @@ def test_circle_pattern_map_onto_a_rectangle_by_prescribed_boundary_curvature():
         uvflat.circle_pattern_map(p, t, boundary_curvature=np.where(np.isnan(curvature), np.nan, 0.1))
 
 
+def test_circle_pattern_map_with_a_convex_boundary():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    loop = max(uvflat.boundary_loops(p, t), key=len)
+
+    def turning(uv):
+        a, v, b = uv[np.roll(loop, 1)], uv[loop], uv[np.roll(loop, -1)]
+        d1, d2 = v - a, b - v
+        return np.arctan2(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0], (d1 * d2).sum(axis=1))
+
+    free, free_report = uvflat.circle_pattern_map(p, t)
+    assert turning(free).min() < -0.05  # the free map's boundary is concave somewhere
+    uv, report = uvflat.circle_pattern_map(p, t, convex_boundary=True)
+    assert report.closure_error < 1e-9 and 0.0 < report.radius_span < 12.0
+    assert turning(uv).min() > -1e-9 and abs(turning(uv).sum() - 2.0 * np.pi) < 1e-8
+    m, f = uvflat.metrics(p, t, uv), uvflat.metrics(p, t, free)
+    assert m.flipped == report.flipped_triangles == 0 and m.boundary_intersections == 0
+    assert f.angle_mean < m.angle_mean < uvflat.metrics(p, t, uvflat.fixed_boundary_map(p, t)).angle_mean
+    # Three corners already turning by more than 2π leave the other vertices nothing convex.
+    curvature = np.full(len(p), np.nan)
+    curvature[loop[[0, len(loop) // 3, 2 * len(loop) // 3]]] = 2.2
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.circle_pattern_map(p, t, boundary_curvature=curvature, convex_boundary=True)
+
+
 def test_circle_pattern_cone_map_of_a_sphere_and_a_torus():
     # Sphere: four cones of curvature π (a tetrahedron's corners, Σ = 4π = 2π χ).
     p, t = load_mesh("closed_g0_bunny.obj")

@@ -497,6 +497,66 @@ def test_methods_and_options(props):
     assert (data["uv"][loops] >= -1e-6).all() and (data["uv"][loops] <= 1 + 1e-6).all()
 
 
+def test_a_mesh_without_a_uv_map_unwraps_twice():
+    # Regression: the add-on kept the UV map's RNA reference across the reading of its pin and
+    # selection attributes, which may create them and reallocate the layer array; the second
+    # unwrap of a partly selected mesh that had no UV map before then crashed Blender (a
+    # segmentation fault in `uv.foreach_set`).
+    def select(obj):
+        c = face_centers(obj)
+        return (c[:, 0] < -0.2) | (c[:, 1] > 0.5)
+
+    obj = grid(10)
+    assert len(obj.data.uv_layers) == 0
+    edit([obj], select)
+    for method in ("NATURAL_CONFORMAL", "CIRCLE_PATTERNS", "NATURAL_CONFORMAL"):
+        run(method=method)
+        data = read(obj)
+        islands = uv_islands(data, np.flatnonzero(select(obj)))
+        assert len(islands) == 1
+        assert_no_flips(data, islands)
+        bpy.ops.object.mode_set(mode="EDIT")
+
+
+def test_circle_patterns_convex_boundary_makes_an_l_shaped_island_convex():
+    # An L-shaped selection of a flat grid: the free circle-pattern map keeps the L (its own
+    # shape, up to a similarity), so its UV area is well below that of its convex hull; with
+    # Convex Boundary the island's boundary is a convex polygon, i.e. area = hull area.
+    def select(obj):
+        c = face_centers(obj)
+        return (c[:, 0] < -0.2) | (c[:, 1] > 0.5)
+
+    def area_over_hull(data, polys):
+        uv = data["uv"][poly_loops(data, polys)].astype(np.float64)
+        area = np.abs(signed_areas(data, triangles_of(data, polys))).sum()
+        pts = sorted(set(map(tuple, uv)))
+        cross = lambda o, a, b: (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+        hull = []
+        for sweep in (pts, pts[::-1]):  # Andrew's monotone chain, lower then upper half
+            half = []
+            for q in sweep:
+                while len(half) >= 2 and cross(half[-2], half[-1], q) <= 0:
+                    half.pop()
+                half.append(q)
+            hull += half[:-1]
+        h = np.array(hull)
+        hull_area = 0.5 * abs(np.dot(h[:, 0], np.roll(h[:, 1], -1)) - np.dot(h[:, 1], np.roll(h[:, 0], -1)))
+        return area / hull_area
+
+    obj = grid(10)
+    mask = select(obj)
+    polys = np.flatnonzero(mask)
+    edit([obj], select)
+    run(method="CIRCLE_PATTERNS")
+    assert area_over_hull(read(obj), polys) < 0.9
+    bpy.ops.object.mode_set(mode="EDIT")
+    run(method="CIRCLE_PATTERNS", convex_boundary=True)
+    data = read(obj)
+    assert_no_flips(data, uv_islands(data, polys))
+    # float32 UVs: the hull and the island agree to about 1e-6 of its size.
+    assert area_over_hull(data, polys) > 1 - 1e-4
+
+
 def test_abf_plus_plus_uses_two_pins_in_its_reconstruction():
     n = 8
     obj = grid(n)

@@ -735,6 +735,10 @@ class CirclePatternReport:
     intrinsic_flips: int
     #: Mesh triangles whose uv area is not positive (always 0 without intrinsic flips).
     flipped_triangles: int
+    #: log10 of the largest over the smallest circle radius: the orders of magnitude the map's
+    #: scale spans (3–4 on typical free maps; beyond about 12 the layout loses the smallest
+    #: triangles to double-precision rounding).
+    radius_span: float
 
 
 def _circle_pattern_options(
@@ -746,6 +750,7 @@ def _circle_pattern_options(
     intrinsic_delaunay: bool,
     boundary_curvature: Optional[ArrayLike],
     corners: Optional[ArrayLike],
+    convex_boundary: bool = False,
 ) -> Tuple[Any, Optional[np.ndarray]]:
     """The C options and the curvature array they point to (keep it alive during the call)."""
     options = L.UvfCirclePatternOptions()
@@ -757,6 +762,7 @@ def _circle_pattern_options(
     if tolerance is not None:
         options.tolerance = float(tolerance)
     options.intrinsic_delaunay = 1 if intrinsic_delaunay else 0
+    options.convex_boundary = 1 if convex_boundary else 0
     if corners is not None:
         if boundary_curvature is not None:
             raise InvalidArgument("give boundary_curvature or corners, not both")
@@ -780,6 +786,7 @@ def circle_pattern_map(
     intrinsic_delaunay: bool = True,
     boundary_curvature: Optional[ArrayLike] = None,
     corners: Optional[ArrayLike] = None,
+    convex_boundary: bool = False,
     progress: Optional[ProgressCallback] = None,
 ) -> Tuple[np.ndarray, CirclePatternReport]:
     """Conformal map by circle patterns (Kharevych, Springborn & Schröder 2006;
@@ -802,13 +809,18 @@ def circle_pattern_map(
             prescribed boundary must sum to 2π (1 − holes).
         corners: instead of ``boundary_curvature``, the corner vertices of a convex polygon
             with straight sides (see :func:`polygon_boundary_curvature`; 4 give a rectangle).
+        convex_boundary: keep the uv boundary convex (the paper's inequality constraints on
+            the boundary angles): every boundary vertex whose curvature is not prescribed turns
+            by at least 0, so the pattern embeds its triangulation (no overlap). Costs angle
+            distortion where the boundary is concave (``report.radius_span`` tells how far the
+            scale then spreads).
 
     Returns:
         ``(uv, report)``: ``(n, 2)`` UVs and a :class:`CirclePatternReport`.
     """
     p, t = _mesh_arrays(positions, triangles)
     options, _curvature = _circle_pattern_options(
-        p, t, pins, max_iterations, tolerance, intrinsic_delaunay, boundary_curvature, corners
+        p, t, pins, max_iterations, tolerance, intrinsic_delaunay, boundary_curvature, corners, convex_boundary
     )
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
@@ -829,6 +841,7 @@ def circle_pattern_cone_map(
     intrinsic_delaunay: bool = True,
     boundary_curvature: Optional[ArrayLike] = None,
     corners: Optional[ArrayLike] = None,
+    convex_boundary: bool = False,
     progress: Optional[ProgressCallback] = None,
 ) -> Tuple[np.ndarray, CirclePatternReport]:
     """Conformal map with cone singularities by circle patterns (Kharevych, Springborn &
@@ -841,7 +854,8 @@ def circle_pattern_cone_map(
         cones: ``{vertex: curvature}`` or ``(vertices, curvatures)``: interior vertices and
             their curvature in radians (2π minus the cone angle; π/2 for a cube corner). On a
             closed mesh the curvatures must sum to 2π χ (4π on a sphere, 0 on a torus: ``{}``).
-        boundary_curvature, corners, intrinsic_delaunay: as for :func:`circle_pattern_map`.
+        boundary_curvature, corners, convex_boundary, intrinsic_delaunay: as for
+            :func:`circle_pattern_map`.
 
     Returns:
         ``(corner_uv, report)``: ``(m, 3, 2)`` uv per triangle corner and a
@@ -862,7 +876,7 @@ def circle_pattern_cone_map(
     if len(k) != len(v):
         raise InvalidArgument(f"{len(v)} cone vertices but {len(k)} curvatures")
     options, _curvature = _circle_pattern_options(
-        p, t, None, max_iterations, tolerance, intrinsic_delaunay, boundary_curvature, corners
+        p, t, None, max_iterations, tolerance, intrinsic_delaunay, boundary_curvature, corners, convex_boundary
     )
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function

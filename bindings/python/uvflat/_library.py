@@ -270,6 +270,7 @@ class UvfCirclePatternOptions(Structure):
         ("progress_user", c_void_p),
         ("intrinsic_delaunay", c_uint32),
         ("boundary_curvature", POINTER(c_double)),
+        ("convex_boundary", c_uint32),
     ]
 
 
@@ -284,6 +285,7 @@ class UvfCirclePatternReport(Structure):
         ("max_angle_change", c_double),
         ("intrinsic_flips", c_uint32),
         ("flipped_triangles", c_uint32),
+        ("radius_span", c_double),
     ]
 
 

@@ -5,8 +5,11 @@
 //!
 //! ```text
 //! minimize ½ Σ w_a (α_a − β_a)²   subject to   J α = c,
-//!          s_a = α_a − MIN_ANGLE ≥ 0 (dual z_a),   p_e = π − margin − α_a − α_b ≥ 0 (dual y_e)
+//!          s_a = α_a − l_a ≥ 0 (dual z_a),   p_e = π − margin − α_a − α_b ≥ 0 (dual y_e)
 //! ```
+//!
+//! (l_a = MIN_ANGLE for an angle; the variables also hold one slack σ ≥ 0 per boundary vertex
+//! whose angle sum is bounded above, with weight 0 and l = 0: see `AngleProgram::slack_row`.)
 //!
 //! Each iteration linearizes the KKT conditions W(α − β) − z + Gᵀy + Jᵀν = 0, J α = c,
 //! s∘z = p∘y = σμ. Eliminating Δz and Δy leaves H Δα + Jᵀ Δν = −g with
@@ -25,7 +28,7 @@
 //! non-Delaunay: the residual grew from 10⁻⁸ to 10³ once μ went below 10⁻¹⁰). Measured against that method
 //! on the disk meshes: see the README ("Circle patterns").
 
-use super::{delaunay_slack, AngleProgram, MIN_ANGLE};
+use super::{delaunay_slack, AngleProgram};
 use crate::error::{Error, Result};
 use crate::linalg::CholeskyPattern;
 use crate::progress::Progress;
@@ -123,7 +126,7 @@ impl AngleProgram {
 
     /// Slacks s (lower bounds, per corner) and p (Delaunay, per pair) at α.
     fn slacks(&self, alpha: &[f64]) -> (Vec<f64>, Vec<f64>) {
-        let s = alpha.iter().map(|a| a - MIN_ANGLE).collect();
+        let s = alpha.iter().zip(&self.lower).map(|(a, l)| a - l).collect();
         let p = self.pairs.iter().map(|[a, b]| delaunay_slack(alpha[*a as usize], alpha[*b as usize])).collect();
         (s, p)
     }

@@ -88,6 +88,33 @@ fn check_gauss_bonnet(mesh: &TriMesh, sums: &[f64]) -> Result<()> {
     Ok(())
 }
 
+/// Per vertex, an upper bound on the angle sum (NaN: none): with `convex`, π at every boundary
+/// vertex whose sum `sums` leaves free (its turning π − Σ α at least 0). Checks that the
+/// bounded vertices can take the turning Gauss–Bonnet leaves them: with every vertex prescribed
+/// or bounded, Σ κ = 2π χ, so the prescribed curvatures may add up to at most 2π χ.
+pub(super) fn convex_bounds(mesh: &TriMesh, sums: &[f64], convex: bool) -> Result<Vec<f64>> {
+    let mut bounds = vec![f64::NAN; mesh.vertex_count()];
+    if !convex {
+        return Ok(bounds);
+    }
+    let mut prescribed = 0.0;
+    for v in (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_referenced(v)) {
+        let flat = if mesh.is_boundary_vertex(v) { PI } else { 2.0 * PI };
+        match sums[v as usize] {
+            sum if sum.is_nan() => bounds[v as usize] = PI,
+            sum => prescribed += flat - sum,
+        }
+    }
+    let chi = mesh.topology().euler_characteristic as f64;
+    if bounds.iter().any(|b| !b.is_nan()) && prescribed > 2.0 * PI * chi + 1e-9 * (1.0 + mesh.vertex_count() as f64) {
+        return Err(Error::InvalidArgument(format!(
+            "a convex boundary is impossible: the prescribed curvatures already sum to {prescribed}, more than 2π χ = {} (χ = {chi}), which would leave the free boundary vertices turning backwards",
+            2.0 * PI * chi
+        )));
+    }
+    Ok(bounds)
+}
+
 /// Boundary curvature that makes the longest boundary loop a convex polygon with the given
 /// corner vertices (in any order): turning 2π / k at each of the k ≥ 3 corners, 0 (straight)
 /// at the loop's other vertices, free (NaN) elsewhere — e.g. four corners give a rectangle
