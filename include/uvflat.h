@@ -817,6 +817,33 @@ typedef struct UvfSphereOptions {
 } UvfSphereOptions;
 
 /**
+ * Options of `uvf_place_cones`. Initialise with `uvf_cone_placement_options_default`.
+ */
+typedef struct UvfConePlacementOptions {
+  /**
+   * `sizeof(UvfConePlacementOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * Most cones placed (default 64); the output arrays must hold this many.
+   */
+  uint32_t max_cones;
+  /**
+   * Stop once the conformal flattening's log scale |u| is at most this everywhere (default
+   * 0.7, about a factor of 2 in length; ≥ 0).
+   */
+  double max_log_scale;
+  /**
+   * Optional progress callback (may be NULL), called after each cone.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfConePlacementOptions;
+
+/**
  * Options of the constrained natural conformal maps and of the boundary editor. Initialise
  * with `uvf_intrinsic_tool_options_default`.
  */
@@ -2009,6 +2036,43 @@ enum UvfStatus uvf_spherical_map(const double *positions,
                                  const struct UvfSphereOptions *options,
                                  double *sphere_out,
                                  size_t *flipped_out);
+
+/**
+ * Fills `options` with defaults (at most 64 cones, log scale 0.7, no callback).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_cone_placement_options_default(struct UvfConePlacementOptions *options);
+
+/**
+ * Places cone singularities for a conformal map greedily (Ben-Chen, Gotsman & Bunin 2008):
+ * with the cones placed so far (and the boundary, if any) at log scale 0, the flattening's log
+ * scale u solves a Poisson equation in the angle defects; the vertex with the largest |u| is
+ * the next cone, until |u| ≤ `max_log_scale` everywhere or `max_cones` are placed. Each cone's
+ * curvature (2π minus its cone angle) is the one that flattening gives it; on a closed mesh they
+ * sum to 2π χ. The result is meant for `uvf_circle_pattern_cone_map`.
+ *
+ * `cone_vertices_out` and `cone_curvatures_out` must hold `max_cones` elements; `count_out`
+ * receives the number of cones written, `max_log_scale_out` (may be NULL) the largest |u| left.
+ * Needs a connected mesh (closed of any genus, or with boundary; a torus may need none).
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`
+ * (several components), `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On
+ * failure the outputs are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `count_out` must be writable,
+ * `max_log_scale_out` NULL or writable.
+ */
+enum UvfStatus uvf_place_cones(const double *positions,
+                               size_t vertex_count,
+                               const uint32_t *triangles,
+                               size_t triangle_count,
+                               const struct UvfConePlacementOptions *options,
+                               uint32_t *cone_vertices_out,
+                               double *cone_curvatures_out,
+                               size_t *count_out,
+                               double *max_log_scale_out);
 
 /**
  * Human-readable message of the last failed call on this thread ("" after a success).

@@ -310,7 +310,30 @@ fn circle_patterns_with_cones_write_per_corner_uvs() {
     ]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("Gauss"), "{}", stderr(&o));
-    for bad in [vec!["--cone", "zero:90"], vec!["--cone", "0:90", "--cut", "auto"]] {
+    // `--auto-cones`: placed where the flattening's scale is largest, reported in the JSON.
+    let bunny = format!("{MESHES}/closed_g0_bunny.obj");
+    let o = uvflat(&[
+        "unwrap",
+        &bunny,
+        "-o",
+        out.to_str().unwrap(),
+        "--method",
+        "circle-patterns",
+        "--auto-cones",
+        "--json",
+    ]);
+    let report = json(&o);
+    let cones = report["cone_vertices"].as_array().map(|a| a.len()).unwrap_or(0);
+    assert!(cones > 0 && report["cones"] == cones, "{report}");
+    assert!(report["max_log_scale"].as_f64().is_some_and(|s| s <= 0.7), "{report}");
+    let total: f64 = report["cone_curvatures"].as_array().unwrap().iter().map(|k| k.as_f64().unwrap()).sum();
+    assert!((total - 4.0 * std::f64::consts::PI).abs() < 1e-8, "{report}");
+    for bad in [
+        vec!["--cone", "zero:90"],
+        vec!["--cone", "0:90", "--cut", "auto"],
+        vec!["--cone", "0:0", "--auto-cones"],
+        vec!["--max-cones", "4"],
+    ] {
         let mut args = vec!["unwrap", torus.as_str(), "-o", out.to_str().unwrap(), "--method", "circle-patterns"];
         args.extend(bad);
         assert_eq!(uvflat(&args).status.code(), Some(2), "{args:?}");

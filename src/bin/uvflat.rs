@@ -18,6 +18,7 @@ use uvflat::methods::boundary_optimization::{boundary_optimized_map, BoundaryOpt
 use uvflat::methods::circle_patterns::{
     circle_pattern_cone_map, circle_pattern_map, polygon_boundary_curvature, CirclePatternOptions,
 };
+use uvflat::methods::cone_placement::{place_cones, ConePlacementOptions};
 use uvflat::methods::conformal::Pin;
 use uvflat::methods::length_area_distortion::DistortionEnergy;
 use uvflat::methods::near_optimal::{near_optimal_map, NearOptimalOptions};
@@ -302,6 +303,19 @@ struct UnwrapArgs {
     /// UVs are per corner. Tori need none: give `--cone` with curvature 0 (e.g. `0:0`).
     #[arg(long = "cone")]
     cones: Vec<String>,
+    /// circle-patterns: place the cones automatically (greedily where the conformal
+    /// flattening's scale is largest, Ben-Chen et al. 2008) and cut through them; any genus,
+    /// UVs per corner.
+    #[arg(long = "auto-cones")]
+    auto_cones: bool,
+    /// With `--auto-cones`: most cones placed (default 64, or 4 per unit of −χ on a higher
+    /// genus, which needs at least 2g − 2).
+    #[arg(long = "max-cones", value_name = "N")]
+    max_cones: Option<u32>,
+    /// With `--auto-cones`: stop once the log scale is at most this everywhere (default 0.7,
+    /// about a factor of 2 in length).
+    #[arg(long = "max-log-scale", value_name = "S")]
+    max_log_scale: Option<f64>,
     /// Also draw the UV layout into this SVG file.
     #[arg(long)]
     svg: Option<PathBuf>,
@@ -514,7 +528,7 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
     let start = Instant::now();
     let mesh = TriMesh::new(&obj.positions, &obj.triangles)
         .map_err(|e| Failure { message: format!("{}: {e}", args.input.display()), usage: false })?;
-    if !args.cones.is_empty() {
+    if !args.cones.is_empty() || args.auto_cones {
         return unwrap_cone_map(args, &obj, &mesh, start);
     }
     let cut_mode =
@@ -622,7 +636,20 @@ fn circle_pattern_options(args: &UnwrapArgs, mesh: &TriMesh) -> Result<CirclePat
 
 /// `--method circle-patterns --cone ...`: the cone map, cut through its cones, per-corner UVs.
 fn unwrap_cone_map(args: &UnwrapArgs, obj: &ObjMesh, mesh: &TriMesh, start: Instant) -> Result<(), Failure> {
-    let cones = parse_cones(&args.cones)?;
+    let (cones, max_log_scale) = if args.auto_cones {
+        let defaults = ConePlacementOptions::default();
+        let options = ConePlacementOptions {
+            max_cones: args.max_cones.unwrap_or_else(|| {
+                let chi = mesh.topology().euler_characteristic;
+                defaults.max_cones.max(4 * (-chi).clamp(0, u32::MAX as i64 / 4) as u32)
+            }),
+            max_log_scale: args.max_log_scale.unwrap_or(defaults.max_log_scale),
+        };
+        let placement = place_cones(mesh, &options, &mut Progress::none())?;
+        (placement.cones, Some(placement.max_log_scale))
+    } else {
+        (parse_cones(&args.cones)?, None)
+    };
     let result = circle_pattern_cone_map(mesh, &cones, &circle_pattern_options(args, mesh)?, &mut Progress::none())?;
     let seconds = start.elapsed().as_secs_f64();
     let uv: Vec<[f64; 2]> = result.corner_uv.iter().flatten().copied().collect();
@@ -640,7 +667,13 @@ fn unwrap_cone_map(args: &UnwrapArgs, obj: &ObjMesh, mesh: &TriMesh, start: Inst
             "method": "circle-patterns", "seconds": seconds, "vertices": mesh.vertex_count(),
             "output": args.output.display().to_string(), "cones": cones.len(), "seam_edges": result.seams.len(),
             "intrinsic_flips": r.intrinsic_flips, "closure_error": r.closure_error, "flipped_triangles": r.flipped_triangles,
+            "radius_span": r.radius_span,
         });
+        if let Some(scale) = max_log_scale {
+            object["cone_vertices"] = cones.iter().map(|c| c.0).collect();
+            object["cone_curvatures"] = cones.iter().map(|c| c.1).collect();
+            object["max_log_scale"] = scale.into();
+        }
         merge(&mut object, metrics.to_json());
         println!("{object}");
     } else {
@@ -1211,14 +1244,24 @@ fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
         return Err(usage("--energy applies to --method intrinsic-optimal and boundary-optimized only"));
     }
     if method != MethodName::CirclePatterns
-        && (args.no_intrinsic_delaunay || !args.corners.is_empty() || !args.cones.is_empty() || args.convex_boundary)
+        && (args.no_intrinsic_delaunay
+            || !args.corners.is_empty()
+            || !args.cones.is_empty()
+            || args.convex_boundary
+            || args.auto_cones)
     {
         return Err(usage(
-            "--no-intrinsic-delaunay, --corner, --convex-boundary and --cone apply to --method circle-patterns only",
+            "--no-intrinsic-delaunay, --corner, --convex-boundary, --cone and --auto-cones apply to --method circle-patterns only",
         ));
     }
-    if !args.cones.is_empty() && (args.cut.is_some() || !args.pins.is_empty()) {
-        return Err(usage("--cone cuts the mesh through the cones itself: no --cut or --pin"));
+    if (!args.cones.is_empty() || args.auto_cones) && (args.cut.is_some() || !args.pins.is_empty()) {
+        return Err(usage("--cone and --auto-cones cut the mesh through the cones: no --cut or --pin"));
+    }
+    if args.auto_cones && !args.cones.is_empty() {
+        return Err(usage("give --cone or --auto-cones, not both"));
+    }
+    if !args.auto_cones && (args.max_cones.is_some() || args.max_log_scale.is_some()) {
+        return Err(usage("--max-cones and --max-log-scale apply to --auto-cones only"));
     }
     Ok(())
 }

@@ -10,6 +10,7 @@ pub mod abf;
 pub mod atlas;
 pub mod circle_patterns;
 pub mod closed;
+pub mod cone_placement;
 pub mod errors;
 pub mod intrinsic;
 pub mod mesh;

@@ -5,6 +5,7 @@ pub mod abf;
 pub mod barycentric;
 pub mod boundary_optimization;
 pub mod circle_patterns;
+pub mod cone_placement;
 pub mod conformal;
 pub mod constraints;
 pub mod fixed_system;

@@ -358,6 +358,22 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
         check(circles.struct_size == sizeof circles && circles.max_iterations > 0 && circles.pin_count == 0 &&
                   circles.intrinsic_delaunay == 1 && circles.convex_boundary == 0,
               "circle pattern defaults");
+        {
+            UvfConePlacementOptions placing;
+            uint32_t cone_vertices[64];
+            double cone_curvatures[64], largest = -1.0;
+            size_t cone_count = 99;
+            uvf_cone_placement_options_default(&placing);
+            check(placing.struct_size == sizeof placing && placing.max_cones == 64 && placing.max_log_scale > 0.0,
+                  "cone placement defaults");
+            check(uvf_place_cones(positions, nv, triangles, nt, &placing, cone_vertices, cone_curvatures, &cone_count,
+                                  &largest) == UVF_OK &&
+                      cone_count <= 64 && (largest <= placing.max_log_scale || cone_count == 64),
+                  "cone placement succeeds within its limits");
+            check(uvf_place_cones(positions, nv, triangles, nt, &placing, cone_vertices, cone_curvatures, NULL, NULL) ==
+                      UVF_INVALID_ARGUMENT,
+                  "cone placement without count_out refused");
+        }
         circles.convex_boundary = 1;
         check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, &circles_report) == UVF_OK &&
                   circles_report.closure_error < 1e-9 && circles_report.radius_span >= 0.0 &&

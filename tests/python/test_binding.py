@@ -118,7 +118,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 80, sorted(functions)
+    assert len(functions) == 82, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -149,6 +149,7 @@ STRUCTS = {
     "UvfAbfReport": _library.UvfAbfReport,
     "UvfCirclePatternOptions": _library.UvfCirclePatternOptions,
     "UvfCirclePatternReport": _library.UvfCirclePatternReport,
+    "UvfConePlacementOptions": _library.UvfConePlacementOptions,
     "UvfQuadCoverOptions": _library.UvfQuadCoverOptions,
     "UvfQuadCoverReport": _library.UvfQuadCoverReport,
     "UvfIntrinsicToolOptions": _library.UvfIntrinsicToolOptions,
@@ -1331,6 +1332,28 @@ def test_circle_pattern_map_with_a_convex_boundary():
     curvature[loop[[0, len(loop) // 3, 2 * len(loop) // 3]]] = 2.2
     with pytest.raises(uvflat.InvalidArgument):
         uvflat.circle_pattern_map(p, t, boundary_curvature=curvature, convex_boundary=True)
+
+
+def test_automatic_cones_for_the_circle_pattern_cone_map():
+    p, t = load_mesh("closed_g0_bunny.obj")
+    placement = uvflat.place_cones(p, t)
+    vertices, curvatures = placement.cones()
+    assert len(set(vertices.tolist())) == len(vertices) <= 64 and placement.max_log_scale <= 0.7
+    assert abs(curvatures.sum() - 4.0 * np.pi) < 1e-8  # Gauss–Bonnet on a sphere
+    corner_uv, report = uvflat.circle_pattern_cone_map(p, t, placement.cones())
+    assert report.closure_error < 1e-9 and report.flipped_triangles == 0
+    # Fewer cones leave more scale distortion; none would leave the sphere's 4π nowhere to go.
+    three = uvflat.place_cones(p, t, max_cones=3)
+    assert len(three.vertices) == 3 and three.max_log_scale > placement.max_log_scale
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.place_cones(p, t, max_cones=-1)
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.place_cones(p, t, max_log_scale=float("nan"))
+    with pytest.raises(uvflat.Cancelled):
+        uvflat.place_cones(p, t, progress=lambda fraction: False)
+    # Genus 133 needs at least 2g − 2 = 264 cones: 64 are refused with the reason.
+    with pytest.raises(uvflat.InvalidArgument, match="too few"):
+        uvflat.place_cones(*load_mesh("closed_g133_cheese.obj"))
 
 
 def test_circle_pattern_cone_map_of_a_sphere_and_a_torus():

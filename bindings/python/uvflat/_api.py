@@ -831,6 +831,63 @@ def circle_pattern_map(
     return uv, _from_struct(CirclePatternReport, report)
 
 
+@dataclasses.dataclass(frozen=True)
+class ConePlacement:
+    """What :func:`place_cones` returns: the cones in the order placed."""
+
+    #: ``(k,)`` uint32 interior vertices.
+    vertices: np.ndarray
+    #: ``(k,)`` float64 curvatures (2π minus the cone angle, radians); Σ = 2π χ on a closed mesh.
+    curvatures: np.ndarray
+    #: Largest |log scale| of the conformal flattening with these cones.
+    max_log_scale: float
+
+    def cones(self) -> Tuple[np.ndarray, np.ndarray]:
+        """``(vertices, curvatures)``, as :func:`circle_pattern_cone_map` takes them."""
+        return self.vertices, self.curvatures
+
+
+def place_cones(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    *,
+    max_cones: int = 64,
+    max_log_scale: float = 0.7,
+    progress: Optional[ProgressCallback] = None,
+) -> ConePlacement:
+    """Cone singularities for a conformal map, placed greedily (Ben-Chen, Gotsman & Bunin 2008;
+    ``uvf_place_cones``): each new cone goes where the flattening's log scale |u| is largest,
+    until |u| ≤ ``max_log_scale`` everywhere or ``max_cones`` are placed; each cone's curvature
+    is the one that flattening gives it. Feed the result to :func:`circle_pattern_cone_map`::
+
+        placement = uvflat.place_cones(p, t)
+        corner_uv, report = uvflat.circle_pattern_cone_map(p, t, placement.cones())
+
+    A closed surface of genus g needs at least 2g − 2 cones (raises :class:`InvalidArgument`
+    naming the cone that ``max_cones`` leave overloaded; 4 per unit of −χ is ample).
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    if not (isinstance(max_cones, (int, np.integer)) and 0 <= max_cones < 2**32):
+        raise InvalidArgument(f"max_cones must be an integer in [0, 2^32), not {max_cones!r}")
+    options = L.UvfConePlacementOptions()
+    L.library().uvf_cone_placement_options_default(byref(options))
+    options.max_cones = int(max_cones)
+    options.max_log_scale = float(max_log_scale)
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    vertices = np.zeros(max(int(max_cones), 1), dtype=np.uint32)
+    curvatures = np.zeros(max(int(max_cones), 1), dtype=np.float64)
+    count, largest = ctypes.c_size_t(0), ctypes.c_double(0.0)
+    lib = L.library()
+    bridge.run(
+        lambda: lib.uvf_place_cones(
+            _f64p(p), len(p), _u32p(t), len(t), byref(options), _u32p(vertices), _f64p(curvatures), byref(count), byref(largest)
+        )
+    )
+    k = count.value
+    return ConePlacement(vertices[:k].copy(), curvatures[:k].copy(), largest.value)
+
+
 def circle_pattern_cone_map(
     positions: ArrayLike,
     triangles: ArrayLike,

@@ -289,6 +289,18 @@ class UvfCirclePatternReport(Structure):
     ]
 
 
+class UvfConePlacementOptions(Structure):
+    """``struct UvfConePlacementOptions``; fill with ``uvf_cone_placement_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("max_cones", c_uint32),
+        ("max_log_scale", c_double),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
+    ]
+
+
 class UvfQuadCoverOptions(Structure):
     """``struct UvfQuadCoverOptions``; fill with ``uvf_quadcover_options_default``."""
 
@@ -668,6 +680,21 @@ PROTOTYPES = {
             POINTER(UvfCirclePatternOptions),
             _f64p,
             POINTER(UvfCirclePatternReport),
+        ],
+    ),
+    "uvf_cone_placement_options_default": (None, [POINTER(UvfConePlacementOptions)]),
+    "uvf_place_cones": (
+        UvfStatus,
+        [
+            _f64p,
+            c_size_t,
+            _u32p,
+            c_size_t,
+            POINTER(UvfConePlacementOptions),
+            _u32p,
+            _f64p,
+            POINTER(c_size_t),
+            POINTER(c_double),
         ],
     ),
     "uvf_quadcover_options_default": (None, [POINTER(UvfQuadCoverOptions)]),

@@ -7,7 +7,12 @@
 //!    every cone, plus the handle loops of a closed or higher-genus mesh:
 //!    [`crate::mesh::cut::cut_to_disk_through`]).
 //! 2. The mesh is flipped to its intrinsic Delaunay triangulation keeping the cut edges, so
-//!    that the cut is a graph of both triangulations.
+//!    that the cut is a graph of both triangulations, and keeping the triangles around every
+//!    cone, so that the input's corners at a cone are the pattern's and sum exactly to its
+//!    angle. (Without that, a cone of large angle at a vertex of low degree — the coarse
+//!    knight's automatic cone of 468° at a vertex of 4 triangles — had its star re-triangulated,
+//!    and the input's straight triangle across a flipped-away spoke, spanning more than π in
+//!    the pattern, was drawn the short way round: one flipped triangle, a cone 2π short.)
 //! 3. The angle program prescribes the angle sum 2π − κ_v at each cone (2π at the other
 //!    interior vertices, and the boundary as in the disk map); on a closed mesh every vertex is
 //!    prescribed and the values must satisfy Gauss–Bonnet, Σ κ = 2π χ. The radii follow as for
@@ -65,7 +70,9 @@ pub fn circle_pattern_cone_map(
     angle_sums::vertex_sums(mesh, options.boundary_curvature.as_deref(), cones)?;
     let cone_vertices: Vec<u32> = cones.iter().filter(|c| c.1 != 0.0).map(|c| c.0).collect();
     let cut = cut_to_disk_through(mesh, &EdgeCost::default(), &cone_vertices)?;
-    let surface = Triangulation::of(mesh, options, &cut.edges)?;
+    let mut fixed = cut.edges.clone();
+    fixed.extend(cone_stars(mesh, &cone_vertices));
+    let surface = Triangulation::of(mesh, options, &fixed)?;
     let sums = angle_sums::vertex_sums(&surface.mesh, options.boundary_curvature.as_deref(), cones)?;
     let (angles, mut report) = solve_pattern(&surface, &sums, options, progress)?;
     let opened = cut_along(&surface.mesh, &cut.edges)?;
@@ -74,6 +81,14 @@ pub fn circle_pattern_cone_map(
     progress.report(1.0)?;
     report.flipped_triangles = flipped_triangles_of_corners(&corner_uv);
     Ok(ConeMapResult { corner_uv, seams: cut.edges, report })
+}
+
+/// Every edge of the triangles around the cones (spokes and link), each once per triangle.
+fn cone_stars(mesh: &TriMesh, cones: &[u32]) -> Vec<[u32; 2]> {
+    let mut is_cone = vec![false; mesh.vertex_count()];
+    cones.iter().for_each(|&v| is_cone[v as usize] = true);
+    let star = mesh.triangles().iter().filter(|t| t.iter().any(|&v| is_cone[v as usize]));
+    star.flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]]).collect()
 }
 
 /// The uv of every corner of the input: the copy of its vertex in `opened` (the flipped
