@@ -10,11 +10,18 @@
 //   #include <uvflat.hpp>
 //   std::vector<double> uv = uvflat::natural_conformal_map(positions, triangles);
 //   UvfMetrics m = uvflat::metrics(positions, triangles, uv);
+//
+// Wrapped: fixed-boundary (barycentric) maps, the natural conformal map (LSCM), ABF / ABF++,
+// the non-linear maps (SLIM, ARAP, MIPS, stretch, Green–Lagrange, Degener), the spectral
+// conformal map, circle patterns (free, prescribed or convex boundary; cone maps and automatic
+// cone placement), metrics, the cut to a disk and the boundary editor. Everything else is in
+// the C API (include/uvflat.h), which this header includes.
 #ifndef UVFLAT_HPP
 #define UVFLAT_HPP
 
 #include "uvflat.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <exception>
@@ -139,15 +146,51 @@ struct FixedBoundaryOptions {
     std::function<bool(double)> progress;
 };
 
+/// A vertex held at a UV position.
+struct Pin {
+    std::uint32_t vertex;
+    double u, v;
+};
+
 /// Options of `natural_conformal_map`: no pins means the two boundary vertices farthest apart.
 struct NaturalConformalOptions {
-    struct Pin {
-        std::uint32_t vertex;
-        double u, v;
-    };
+    using Pin = uvflat::Pin;
     std::vector<Pin> pins; // empty or exactly two
     std::function<bool(double)> progress;
 };
+
+namespace detail {
+
+/// Copies no pins or exactly two into the C options' `pin_count`, `pin_vertices`, `pin_uv`.
+template <class COptions> void set_pins(COptions &o, const std::vector<Pin> &pins) {
+    if (pins.empty()) return;
+    if (pins.size() != 2) throw Error(UVF_INVALID_ARGUMENT, "give no pins or exactly two");
+    o.pin_count = 2;
+    for (int k = 0; k < 2; ++k) {
+        o.pin_vertices[k] = pins[k].vertex;
+        o.pin_uv[2 * k] = pins[k].u;
+        o.pin_uv[2 * k + 1] = pins[k].v;
+    }
+}
+
+/// Runs a per-vertex UV method with a report, `method(positions, nv, triangles, nt, &options,
+/// uv_out, report_out)`; fills `*report` when it is not null.
+template <class COptions, class Report, class Method>
+std::vector<double> run_reported(Method method, COptions &o, const std::function<bool(double)> &callback,
+                                 const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+                                 Report *report) {
+    Progress progress;
+    progress.callback = &callback;
+    progress.install(o);
+    const std::size_t nv = count_of(positions, 3, "positions");
+    std::vector<double> uv(2 * nv);
+    Report r{};
+    progress.finish(method(positions.data(), nv, triangles.data(), count_of(triangles, "triangles"), &o, uv.data(), &r));
+    if (report) *report = r;
+    return uv;
+}
+
+} // namespace detail
 
 /// Topology of a mesh (validates it; throws on invalid meshes).
 inline UvfMeshInfo mesh_info(const double *positions, std::size_t vertex_count, const std::uint32_t *triangles,
@@ -211,15 +254,7 @@ inline std::vector<double> natural_conformal_map(const double *positions, std::s
                                                  const NaturalConformalOptions &options = {}) {
     UvfNaturalConformalOptions o;
     uvf_natural_conformal_options_default(&o);
-    if (!options.pins.empty()) {
-        if (options.pins.size() != 2) throw Error(UVF_INVALID_ARGUMENT, "give no pins or exactly two");
-        o.pin_count = 2;
-        for (int k = 0; k < 2; ++k) {
-            o.pin_vertices[k] = options.pins[k].vertex;
-            o.pin_uv[2 * k] = options.pins[k].u;
-            o.pin_uv[2 * k + 1] = options.pins[k].v;
-        }
-    }
+    detail::set_pins(o, options.pins);
     return detail::run_uv_method(uvf_natural_conformal_map, o, options.progress, positions, vertex_count, triangles,
                                  triangle_count);
 }
@@ -229,6 +264,162 @@ inline std::vector<double> natural_conformal_map(const std::vector<double> &posi
                                                  const NaturalConformalOptions &options = {}) {
     return natural_conformal_map(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
                                  detail::count_of(triangles, "triangles"), options);
+}
+
+/// ABF variant (UVF_ABF_VARIANT_*).
+enum class AbfVariant : std::uint32_t { abf = UVF_ABF_VARIANT_ABF, abf_plus_plus = UVF_ABF_VARIANT_ABF_PLUS_PLUS };
+
+/// Options of `abf`: no pins means the library's automatic pair for the reconstruction.
+struct AbfOptions {
+    AbfVariant variant = AbfVariant::abf_plus_plus;
+    std::vector<Pin> pins; // empty or exactly two
+    std::function<bool(double)> progress;
+};
+
+/// Angle Based Flattening (Sheffer & de Sturler 2001) or ABF++ (Sheffer et al. 2005), free
+/// boundary; returns 2 doubles per vertex, and the solver's figures in `*report` if given.
+inline std::vector<double> abf(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+                               const AbfOptions &options = {}, UvfAbfReport *report = nullptr) {
+    UvfAbfOptions o;
+    uvf_abf_options_default(&o);
+    o.variant = static_cast<std::uint32_t>(options.variant);
+    detail::set_pins(o, options.pins);
+    return detail::run_reported(uvf_abf, o, options.progress, positions, triangles, report);
+}
+
+/// Distortion energy of `nonlinear_map` (UVF_NONLINEAR_*).
+enum class Nonlinear : std::uint32_t {
+    slim = UVF_NONLINEAR_SLIM,
+    arap = UVF_NONLINEAR_ARAP,
+    mips = UVF_NONLINEAR_MIPS,
+    stretch = UVF_NONLINEAR_STRETCH,
+    green_lagrange = UVF_NONLINEAR_GREEN_LAGRANGE,
+    degener = UVF_NONLINEAR_DEGENER,
+};
+
+/// Options of `nonlinear_map`; `iterations` 0 keeps the library's default.
+struct NonlinearOptions {
+    Nonlinear method = Nonlinear::slim;
+    std::uint32_t iterations = 0;
+    std::function<bool(double)> progress;
+};
+
+/// Free-boundary, flip-free map minimizing a non-linear distortion energy from the mean value
+/// map; returns 2 doubles per vertex.
+inline std::vector<double> nonlinear_map(const std::vector<double> &positions,
+                                         const std::vector<std::uint32_t> &triangles,
+                                         const NonlinearOptions &options = {}, UvfNonlinearReport *report = nullptr) {
+    UvfNonlinearOptions o;
+    uvf_nonlinear_options_default(&o);
+    o.method = static_cast<std::uint32_t>(options.method);
+    if (options.iterations != 0) o.iterations = options.iterations;
+    return detail::run_reported(uvf_nonlinear_map, o, options.progress, positions, triangles, report);
+}
+
+/// Spectral conformal map (Mullen et al. 2008): free boundary, no pins; 2 doubles per vertex.
+inline std::vector<double> spectral_conformal_map(const std::vector<double> &positions,
+                                                  const std::vector<std::uint32_t> &triangles,
+                                                  const std::function<bool(double)> &progress = {},
+                                                  UvfSpectralReport *report = nullptr) {
+    UvfSpectralOptions o;
+    uvf_spectral_options_default(&o);
+    return detail::run_reported(uvf_spectral_conformal_map, o, progress, positions, triangles, report);
+}
+
+/// Options of the circle-pattern maps (Kharevych, Springborn & Schröder 2006).
+struct CirclePatternOptions {
+    /// Flip to the intrinsic Delaunay triangulation first (the paper's method).
+    bool intrinsic_delaunay = true;
+    /// Keep the uv boundary convex: the map then cannot overlap itself.
+    bool convex_boundary = false;
+    /// Empty (free boundary) or one turning angle per vertex, NaN where free.
+    std::vector<double> boundary_curvature;
+    std::vector<Pin> pins; // empty or exactly two (not for cone maps)
+    std::function<bool(double)> progress;
+};
+
+namespace detail {
+
+inline UvfCirclePatternOptions circle_pattern_options(const CirclePatternOptions &options, std::size_t vertex_count) {
+    UvfCirclePatternOptions o;
+    uvf_circle_pattern_options_default(&o);
+    o.intrinsic_delaunay = options.intrinsic_delaunay ? 1 : 0;
+    o.convex_boundary = options.convex_boundary ? 1 : 0;
+    if (!options.boundary_curvature.empty()) {
+        if (options.boundary_curvature.size() != vertex_count) {
+            throw Error(UVF_INVALID_ARGUMENT, "boundary_curvature must hold one value per vertex");
+        }
+        o.boundary_curvature = options.boundary_curvature.data();
+    }
+    set_pins(o, options.pins);
+    return o;
+}
+
+} // namespace detail
+
+/// Conformal map of a disk (holes allowed) by circle patterns; 2 doubles per vertex.
+inline std::vector<double> circle_pattern_map(const std::vector<double> &positions,
+                                              const std::vector<std::uint32_t> &triangles,
+                                              const CirclePatternOptions &options = {},
+                                              UvfCirclePatternReport *report = nullptr) {
+    UvfCirclePatternOptions o = detail::circle_pattern_options(options, detail::count_of(positions, 3, "positions"));
+    return detail::run_reported(uvf_circle_pattern_map, o, options.progress, positions, triangles, report);
+}
+
+/// A cone singularity: an interior vertex and its curvature (2π minus the cone angle).
+struct Cone {
+    std::uint32_t vertex;
+    double curvature;
+};
+
+/// Cones placed greedily where the conformal flattening's log scale is largest (Ben-Chen et
+/// al. 2008), until it is at most `max_log_scale` or `max_cones` are placed; the largest log
+/// scale left goes to `*max_log_scale_out` if given.
+inline std::vector<Cone> place_cones(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+                                     std::uint32_t max_cones = 64, double max_log_scale = 0.7,
+                                     double *max_log_scale_out = nullptr) {
+    UvfConePlacementOptions o;
+    uvf_cone_placement_options_default(&o);
+    o.max_cones = max_cones;
+    o.max_log_scale = max_log_scale;
+    std::vector<std::uint32_t> vertices(std::max<std::uint32_t>(max_cones, 1));
+    std::vector<double> curvatures(vertices.size());
+    std::size_t count = 0;
+    double largest = 0;
+    detail::check(uvf_place_cones(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
+                                  detail::count_of(triangles, "triangles"), &o, vertices.data(), curvatures.data(),
+                                  &count, &largest));
+    if (max_log_scale_out) *max_log_scale_out = largest;
+    std::vector<Cone> cones(count);
+    for (std::size_t k = 0; k < count; ++k) cones[k] = Cone{vertices[k], curvatures[k]};
+    return cones;
+}
+
+/// Conformal map with cone singularities by circle patterns, on a mesh of any genus cut through
+/// the cones: 6 doubles per triangle (u, v of its three corners).
+inline std::vector<double> circle_pattern_cone_map(const std::vector<double> &positions,
+                                                   const std::vector<std::uint32_t> &triangles,
+                                                   const std::vector<Cone> &cones,
+                                                   const CirclePatternOptions &options = {},
+                                                   UvfCirclePatternReport *report = nullptr) {
+    UvfCirclePatternOptions o = detail::circle_pattern_options(options, detail::count_of(positions, 3, "positions"));
+    std::vector<std::uint32_t> vertices;
+    std::vector<double> curvatures;
+    for (const Cone &c : cones) {
+        vertices.push_back(c.vertex);
+        curvatures.push_back(c.curvature);
+    }
+    detail::Progress progress;
+    progress.callback = &options.progress;
+    progress.install(o);
+    const std::size_t nt = detail::count_of(triangles, "triangles");
+    std::vector<double> corner_uv(6 * nt);
+    UvfCirclePatternReport r{};
+    progress.finish(uvf_circle_pattern_cone_map(positions.data(), detail::count_of(positions, 3, "positions"),
+                                                triangles.data(), nt, vertices.data(), curvatures.data(),
+                                                cones.size(), &o, corner_uv.data(), &r));
+    if (report) *report = r;
+    return corner_uv;
 }
 
 /// Distortion of per-vertex UVs (2 doubles per vertex).

@@ -143,6 +143,69 @@ void check_boundary_editor(const std::string &name, const Arrays &a) {
     }
 }
 
+/// The other disk methods of the wrapper on a disk of at most 20k triangles: ABF++ and SLIM
+/// flip nothing (as measured on every disk mesh), the spectral map is finite on every referenced vertex, the circle
+/// pattern closes its circles and reports the flips the metrics count, and with a convex
+/// boundary it does not cross itself (unless its scale spans more than double precision holds,
+/// which the report says).
+void check_disk_methods(const std::string &name, const Arrays &a) {
+    if (a.triangles.size() > 3 * 20000) return; // keep the suite fast
+    try {
+        UvfAbfReport abf_report{};
+        const std::vector<double> abf = uvflat::abf(a.positions, a.triangles, {}, &abf_report);
+        if (uvflat::metrics(a.positions, a.triangles, abf).flipped != 0) fail(name, "ABF++ flipped triangles");
+        uvflat::NonlinearOptions slim;
+        slim.iterations = 5;
+        const std::vector<double> uv = uvflat::nonlinear_map(a.positions, a.triangles, slim);
+        if (uvflat::metrics(a.positions, a.triangles, uv).flipped != 0) fail(name, "SLIM flipped triangles");
+        const std::vector<double> spectral = uvflat::spectral_conformal_map(a.positions, a.triangles);
+        for (std::uint32_t v : a.triangles) { // unreferenced vertices get NaN
+            if (!std::isfinite(spectral[2 * v]) || !std::isfinite(spectral[2 * v + 1])) {
+                fail(name, "the spectral map is not finite");
+                break;
+            }
+        }
+        UvfCirclePatternReport report{};
+        const std::vector<double> circles = uvflat::circle_pattern_map(a.positions, a.triangles, {}, &report);
+        const UvfMetrics m = uvflat::metrics(a.positions, a.triangles, circles);
+        if (!(report.closure_error < 1e-9) || m.flipped != report.flipped_triangles) {
+            fail(name, "circle pattern: open circles or a wrong flip count");
+        }
+        uvflat::CirclePatternOptions convex;
+        convex.convex_boundary = true;
+        const std::vector<double> c = uvflat::circle_pattern_map(a.positions, a.triangles, convex, &report);
+        const UvfMetrics cm = uvflat::metrics(a.positions, a.triangles, c);
+        std::printf("%s ABF++ %u iterations, circle patterns convex: span %.1f decades, %zu boundary crossings\n",
+                    name.c_str(), abf_report.iterations, report.radius_span, cm.boundary_intersections);
+        if (report.radius_span < 12 && cm.boundary_intersections != 0) fail(name, "the convex boundary crosses itself");
+    } catch (const uvflat::Error &e) {
+        fail(name, std::string("a disk method failed: ") + e.what());
+    }
+}
+
+/// Automatic cones and the circle-pattern cone map on a closed mesh of at most 10k triangles:
+/// the curvatures sum to 2π χ, and at most one triangle in 1000 flips.
+void check_cone_map(const std::string &name, const Arrays &a, const UvfMeshInfo &info) {
+    const std::size_t nt = a.triangles.size() / 3;
+    if (nt > 10000 || info.components != 1 || info.boundary_loops != 0) return;
+    try {
+        const std::uint32_t max_cones = std::max<std::int64_t>(64, -4 * info.euler_characteristic);
+        const std::vector<uvflat::Cone> cones = uvflat::place_cones(a.positions, a.triangles, max_cones);
+        double total = 0;
+        for (const uvflat::Cone &c : cones) total += c.curvature;
+        if (std::abs(total - 2 * M_PI * double(info.euler_characteristic)) > 1e-8) fail(name, "cones against Gauss-Bonnet");
+        UvfCirclePatternReport report{};
+        const std::vector<double> corner_uv = uvflat::circle_pattern_cone_map(a.positions, a.triangles, cones, {}, &report);
+        std::vector<std::uint32_t> corners(3 * nt);
+        for (std::size_t k = 0; k < corners.size(); ++k) corners[k] = std::uint32_t(k);
+        const UvfMetrics m = uvflat::metrics(a.positions, a.triangles, corner_uv, corners);
+        std::printf("%s: %zu automatic cones, %zu flipped\n", name.c_str(), cones.size(), m.flipped);
+        if (m.flipped * 1000 > nt) fail(name, "the cone map flipped too many triangles");
+    } catch (const uvflat::Error &e) {
+        fail(name, std::string("cone map failed: ") + e.what());
+    }
+}
+
 void check_mesh(const std::string &path, const std::string &out_dir) {
     const std::string name = base_name(path);
     Mesh mesh;
@@ -164,6 +227,8 @@ void check_mesh(const std::string &path, const std::string &out_dir) {
     const bool disk_with_holes = info.components == 1 && info.genus == 0 && info.boundary_loops >= 1;
     if (!disk_with_holes && info.components == 1) check_cut(name, a);
     if (disk_with_holes && info.boundary_loops == 1) check_boundary_editor(name, a);
+    if (disk_with_holes && info.boundary_loops == 1) check_disk_methods(name, a);
+    check_cone_map(name, a, info);
     if (!disk_with_holes) {
         try {
             uvflat::natural_conformal_map(a.positions, a.triangles);
