@@ -373,6 +373,17 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
             check(uvf_place_cones(positions, nv, triangles, nt, &placing, cone_vertices, cone_curvatures, NULL, NULL) ==
                       UVF_INVALID_ARGUMENT,
                   "cone placement without count_out refused");
+            placing.max_log_scale = NAN;
+            cone_count = 99;
+            check(uvf_place_cones(positions, nv, triangles, nt, &placing, cone_vertices, cone_curvatures, &cone_count,
+                                  NULL) == UVF_INVALID_ARGUMENT &&
+                      cone_count == 99 && strstr(uvf_last_error_message(), "max_log_scale") != NULL,
+                  "cone placement with a NaN max_log_scale refused, output untouched");
+            uvf_cone_placement_options_default(&placing);
+            placing.struct_size = 4;
+            check(uvf_place_cones(positions, nv, triangles, nt, &placing, cone_vertices, cone_curvatures, &cone_count,
+                                  NULL) == UVF_INVALID_ARGUMENT,
+                  "cone placement options of a wrong size refused");
         }
         circles.convex_boundary = 1;
         check(uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, &circles_report) == UVF_OK &&
