@@ -477,17 +477,22 @@ fn automatic_cones_flatten_closed_meshes_with_little_area_distortion() {
         let total: f64 = placement.cones.iter().map(|c| c.1).sum();
         let mut comparison = String::new();
         if topology.genus == 0 {
+            // (Where 8 cones cannot carry the curvature the placement says so: no comparison.)
             let greedy = ConePlacementOptions { max_cones: 8, max_log_scale: 0.0 };
-            let eight = place_cones(&mesh, &greedy, &mut Progress::none()).expect("8 cones");
-            let farthest: Vec<(u32, f64)> = spread_vertices(&mesh, 8).into_iter().map(|v| (v, PI / 2.0)).collect();
-            let run = |cones: &[(u32, f64)]| {
-                let r = circle_pattern_cone_map(&mesh, cones, &CirclePatternOptions::default(), &mut Progress::none())
-                    .unwrap_or_else(|e| panic!("{name}: {e}"));
-                corner_metrics(&mesh, &r).area_mean
-            };
-            let (a_greedy, a_farthest) = (run(&eight.cones), run(&farthest));
-            comparison = format!("{a_greedy:.3} / {a_farthest:.3}");
-            assert!(a_greedy < a_farthest, "{name}: 8 greedy cones {a_greedy} against farthest {a_farthest}");
+            if let Ok(eight) = place_cones(&mesh, &greedy, &mut Progress::none()) {
+                let farthest: Vec<(u32, f64)> = spread_vertices(&mesh, 8).into_iter().map(|v| (v, PI / 2.0)).collect();
+                let run = |cones: &[(u32, f64)]| {
+                    let r =
+                        circle_pattern_cone_map(&mesh, cones, &CirclePatternOptions::default(), &mut Progress::none())
+                            .unwrap_or_else(|e| panic!("{name}: {e}"));
+                    corner_metrics(&mesh, &r).area_mean
+                };
+                let (a_greedy, a_farthest) = (run(&eight.cones), run(&farthest));
+                comparison = format!("{a_greedy:.3} / {a_farthest:.3}");
+                assert!(a_greedy < a_farthest, "{name}: 8 greedy cones {a_greedy} against farthest {a_farthest}");
+            } else {
+                comparison = "8 too few".into();
+            }
         }
         println!(
             "| {name} | {} | {} | {} | {:.2} | {:.2} | {:.3} / {:.3} | {:.2} | {} | {} | {:.2} ; {comparison} |",
