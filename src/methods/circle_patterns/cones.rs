@@ -71,9 +71,7 @@ pub fn circle_pattern_cone_map(
     let cone_vertices: Vec<u32> = cones.iter().filter(|c| c.1 != 0.0).map(|c| c.0).collect();
     let cut = cut_to_disk_through(mesh, &EdgeCost::default(), &cone_vertices)?;
     let mut fixed = cut.edges.clone();
-    if std::env::var("NOSTARS").is_err() {
-        fixed.extend(cone_stars(mesh, &cone_vertices));
-    }
+    fixed.extend(cone_stars(mesh, &cone_vertices));
     let surface = Triangulation::of(mesh, options, &fixed)?;
     let sums = angle_sums::vertex_sums(&surface.mesh, options.boundary_curvature.as_deref(), cones)?;
     let (angles, mut report) = solve_pattern(&surface, &sums, options, progress)?;
