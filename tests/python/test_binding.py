@@ -1342,6 +1342,8 @@ def test_automatic_cones_for_the_circle_pattern_cone_map():
     assert abs(curvatures.sum() - 4.0 * np.pi) < 1e-8  # Gauss–Bonnet on a sphere
     corner_uv, report = uvflat.circle_pattern_cone_map(p, t, placement.cones())
     assert report.closure_error < 1e-9 and report.flipped_triangles == 0
+    same, _ = uvflat.circle_pattern_cone_map(p, t, placement)
+    assert np.array_equal(same, corner_uv)
     # Fewer cones leave more scale distortion; none would leave the sphere's 4π nowhere to go.
     three = uvflat.place_cones(p, t, max_cones=3)
     assert len(three.vertices) == 3 and three.max_log_scale > placement.max_log_scale

@@ -861,7 +861,7 @@ def place_cones(
     is the one that flattening gives it. Feed the result to :func:`circle_pattern_cone_map`::
 
         placement = uvflat.place_cones(p, t)
-        corner_uv, report = uvflat.circle_pattern_cone_map(p, t, placement.cones())
+        corner_uv, report = uvflat.circle_pattern_cone_map(p, t, placement)
 
     A closed surface of genus g needs at least 2g − 2 cones (raises :class:`InvalidArgument`
     naming the cone that ``max_cones`` leave overloaded; 4 per unit of −χ is ample).
@@ -908,8 +908,8 @@ def circle_pattern_cone_map(
     its cone angle.
 
     Args:
-        cones: ``{vertex: curvature}`` or ``(vertices, curvatures)``: interior vertices and
-            their curvature in radians (2π minus the cone angle; π/2 for a cube corner). On a
+        cones: ``{vertex: curvature}``, ``(vertices, curvatures)`` or a :class:`ConePlacement`
+            from :func:`place_cones`: interior vertices and their curvature in radians (2π minus the cone angle; π/2 for a cube corner). On a
             closed mesh the curvatures must sum to 2π χ (4π on a sphere, 0 on a torus: ``{}``).
         boundary_curvature, corners, convex_boundary, intrinsic_delaunay: as for
             :func:`circle_pattern_map`.
@@ -919,6 +919,8 @@ def circle_pattern_cone_map(
         :class:`CirclePatternReport`.
     """
     p, t = _mesh_arrays(positions, triangles)
+    if isinstance(cones, ConePlacement):
+        cones = cones.cones()
     if isinstance(cones, Mapping):
         vertices: Any = list(cones.keys())
         curvatures: Any = [cones[v] for v in vertices]
