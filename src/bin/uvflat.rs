@@ -424,7 +424,7 @@ const METHODS: [(MethodName, &str, &str); 19] = [
     (
         MethodName::CirclePatterns,
         "circle-patterns",
-        "free boundary, conformal by circle patterns on the intrinsic Delaunay triangulation (Kharevych et al. 2006)",
+        "conformal by circle patterns on the intrinsic Delaunay triangulation (Kharevych et al. 2006); free, polygon (--corner) or convex (--convex-boundary) boundary; cones (--cone, --auto-cones) on any genus",
     ),
     (
         MethodName::IntrinsicOptimal,
