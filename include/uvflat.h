@@ -825,7 +825,8 @@ typedef struct UvfConePlacementOptions {
    */
   size_t struct_size;
   /**
-   * Most cones placed (default 64); the output arrays must hold this many.
+   * Most cones placed (default 64); the output arrays must hold this many, or
+   * `vertex_count` if that is fewer (a vertex is a cone at most once).
    */
   uint32_t max_cones;
   /**
@@ -2053,7 +2054,8 @@ void uvf_cone_placement_options_default(struct UvfConePlacementOptions *options)
  * curvature (2π minus its cone angle) is the one that flattening gives it; on a closed mesh they
  * sum to 2π χ. The result is meant for `uvf_circle_pattern_cone_map`.
  *
- * `cone_vertices_out` and `cone_curvatures_out` must hold `max_cones` elements; `count_out`
+ * `cone_vertices_out` and `cone_curvatures_out` must hold min(`max_cones`, `vertex_count`)
+ * elements; `count_out`
  * receives the number of cones written, `max_log_scale_out` (may be NULL) the largest |u| left.
  * Needs a connected mesh (closed of any genus, or with boundary; a torus may need none).
  * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`

@@ -382,11 +382,12 @@ inline std::vector<Cone> place_cones(const std::vector<double> &positions, const
     uvf_cone_placement_options_default(&o);
     o.max_cones = max_cones;
     o.max_log_scale = max_log_scale;
-    std::vector<std::uint32_t> vertices(std::max<std::uint32_t>(max_cones, 1));
+    const std::size_t nv = detail::count_of(positions, 3, "positions");
+    std::vector<std::uint32_t> vertices(std::max<std::size_t>(std::min<std::size_t>(max_cones, nv), 1));
     std::vector<double> curvatures(vertices.size());
     std::size_t count = 0;
     double largest = 0;
-    detail::check(uvf_place_cones(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
+    detail::check(uvf_place_cones(positions.data(), nv, triangles.data(),
                                   detail::count_of(triangles, "triangles"), &o, vertices.data(), curvatures.data(),
                                   &count, &largest));
     if (max_log_scale_out) *max_log_scale_out = largest;

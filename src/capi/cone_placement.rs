@@ -12,7 +12,8 @@ use std::os::raw::c_void;
 pub struct UvfConePlacementOptions {
     /// `sizeof(UvfConePlacementOptions)`, set by the default initialiser.
     pub struct_size: usize,
-    /// Most cones placed (default 64); the output arrays must hold this many.
+    /// Most cones placed (default 64); the output arrays must hold this many, or
+    /// `vertex_count` if that is fewer (a vertex is a cone at most once).
     pub max_cones: u32,
     /// Stop once the conformal flattening's log scale |u| is at most this everywhere (default
     /// 0.7, about a factor of 2 in length; ≥ 0).
@@ -54,7 +55,8 @@ pub unsafe extern "C" fn uvf_cone_placement_options_default(options: *mut UvfCon
 /// curvature (2π minus its cone angle) is the one that flattening gives it; on a closed mesh they
 /// sum to 2π χ. The result is meant for `uvf_circle_pattern_cone_map`.
 ///
-/// `cone_vertices_out` and `cone_curvatures_out` must hold `max_cones` elements; `count_out`
+/// `cone_vertices_out` and `cone_curvatures_out` must hold min(`max_cones`, `vertex_count`)
+/// elements; `count_out`
 /// receives the number of cones written, `max_log_scale_out` (may be NULL) the largest |u| left.
 /// Needs a connected mesh (closed of any genus, or with boundary; a torus may need none).
 /// Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`
@@ -82,7 +84,7 @@ pub unsafe extern "C" fn uvf_place_cones(
         let o = read_options(options, UvfConePlacementOptions::default(), full, "UvfConePlacementOptions")?;
         let opts = ConePlacementOptions { max_cones: o.max_cones, max_log_scale: o.max_log_scale };
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
-        let capacity = o.max_cones as usize;
+        let capacity = (o.max_cones as usize).min(vertex_count);
         // Checked before the work so that a bad output pointer leaves everything untouched.
         borrow_slice_mut(cone_vertices_out, capacity, "cone_vertices_out")?;
         borrow_slice_mut(cone_curvatures_out, capacity, "cone_curvatures_out")?;

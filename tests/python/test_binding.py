@@ -1349,6 +1349,8 @@ def test_automatic_cones_for_the_circle_pattern_cone_map():
     assert len(three.vertices) == 3 and three.max_log_scale > placement.max_log_scale
     with pytest.raises(uvflat.InvalidArgument):
         uvflat.place_cones(p, t, max_cones=-1)
+    # No limit worth the name allocates no more than one place per vertex.
+    assert len(uvflat.place_cones(p, t, max_cones=2**32 - 1).vertices) == len(vertices)
     with pytest.raises(uvflat.InvalidArgument):
         uvflat.place_cones(p, t, max_log_scale=float("nan"))
     with pytest.raises(uvflat.Cancelled):

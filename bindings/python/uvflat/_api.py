@@ -875,8 +875,9 @@ def place_cones(
     options.max_log_scale = float(max_log_scale)
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
-    vertices = np.zeros(max(int(max_cones), 1), dtype=np.uint32)
-    curvatures = np.zeros(max(int(max_cones), 1), dtype=np.float64)
+    capacity = max(min(int(max_cones), len(p)), 1)  # a vertex is a cone at most once
+    vertices = np.zeros(capacity, dtype=np.uint32)
+    curvatures = np.zeros(capacity, dtype=np.float64)
     count, largest = ctypes.c_size_t(0), ctypes.c_double(0.0)
     lib = L.library()
     bridge.run(
