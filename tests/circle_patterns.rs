@@ -397,15 +397,7 @@ fn cone_maps_of_closed_meshes_have_congruent_seams_and_the_prescribed_cone_angle
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         let seconds = start.elapsed().as_secs_f64();
         let (seam_error, cone_error) = check_cone_map(name, &mesh, &cones, &result);
-        let flat: Vec<f64> = result.corner_uv.iter().flatten().flatten().copied().collect();
-        let corner_tris: Vec<u32> = (0..3 * mesh.triangle_count() as u32).collect();
-        let m = distortion(
-            mesh.points(),
-            mesh.triangles(),
-            &flat.chunks(2).map(|c| [c[0], c[1]]).collect::<Vec<_>>(),
-            &corner_tris.chunks(3).map(|c| [c[0], c[1], c[2]]).collect::<Vec<_>>(),
-        )
-        .expect("metrics");
+        let m = corner_metrics(&mesh, &result);
         println!(
             "| {name} | {} | {} | {} | {:.1e} | {:.1e} | {} | {:.2} | {:.2} |",
             mesh.triangle_count(),

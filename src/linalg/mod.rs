@@ -141,6 +141,23 @@ pub fn lower_from_entries<T: ComplexField + Copy>(
     Ok(SparseColMat::new(symbolic, values))
 }
 
+/// Factors `lower` (real, symmetric positive definite), analysing its pattern on the first
+/// call only (elimination order by geometric nested dissection of `points`, one per unknown):
+/// for methods that factor a sequence of matrices with one pattern.
+pub fn factor_reusing(
+    pattern: &mut Option<CholeskyPattern>,
+    lower: &SparseColMat<usize, f64>,
+    points: &[[f64; 3]],
+) -> Result<CholeskySolver<f64>> {
+    let analysed = match pattern.take() {
+        Some(p) => p,
+        None => CholeskyPattern::new(lower.symbolic(), Some(points))?,
+    };
+    let solver = analysed.factor(lower);
+    *pattern = Some(analysed);
+    solver
+}
+
 /// Symbolic analysis of a sparse Cholesky factorization: the fill-reducing elimination order
 /// and the (supernodal) structure of the factor. It depends only on the sparsity pattern, so a
 /// method that factors several matrices with one pattern computes it once.

@@ -53,12 +53,11 @@
 use super::abf::reconstruct_uv;
 use super::conformal::{resolve_pins, Pin};
 use crate::error::{Error, Result};
-use crate::linalg::{lower_from_entries, CholeskyPattern, CholeskySolver};
+use crate::linalg::{factor_reusing, lower_from_entries, CholeskyPattern, CholeskySolver};
 use crate::mesh::connectivity::prev;
 use crate::mesh::intrinsic_delaunay::{edge_lengths, intrinsic_delaunay_constrained, FlipConstraints};
 use crate::mesh::{TriMesh, NONE};
 use crate::progress::Progress;
-use faer::sparse::SparseColMat;
 use faer::Mat;
 use std::f64::consts::PI;
 
@@ -459,21 +458,6 @@ fn line_search(mesh: &TriMesh, theta: &[f64], rho: &[f64], direction: &[f64]) ->
         }
     }
     lo.max(1e-12)
-}
-
-/// Factors `lower`, analysing its pattern (ordered by `points`) on the first call only.
-fn factor_reusing(
-    pattern: &mut Option<CholeskyPattern>,
-    lower: &SparseColMat<usize, f64>,
-    points: &[[f64; 3]],
-) -> Result<CholeskySolver<f64>> {
-    let analysed = match pattern.take() {
-        Some(p) => p,
-        None => CholeskyPattern::new(lower.symbolic(), Some(points))?,
-    };
-    let solver = analysed.factor(lower);
-    *pattern = Some(analysed);
-    solver
 }
 
 fn triangle_centroids(mesh: &TriMesh) -> Vec<[f64; 3]> {

@@ -21,7 +21,7 @@
 //! analysed once; a cone's row and column are replaced by the identity).
 
 use crate::error::{Error, Result};
-use crate::linalg::{lower_from_entries, CholeskyPattern};
+use crate::linalg::{factor_reusing, lower_from_entries, CholeskyPattern};
 use crate::mesh::intrinsic_delaunay::{angles_from_lengths, intrinsic_delaunay};
 use crate::mesh::TriMesh;
 use crate::progress::Progress;
@@ -203,14 +203,9 @@ impl Laplacian {
             .map(|&(r, c, w)| (r, c, if held(r as usize) || held(c as usize) { 0.0 } else { w }))
             .collect();
         let lower = lower_from_entries(&diagonal, entries)?;
-        let analysed = match pattern.take() {
-            Some(p) => p,
-            None => CholeskyPattern::new(lower.symbolic(), Some(&self.points))?,
-        };
-        let solver = analysed.factor(&lower);
-        *pattern = Some(analysed);
+        let solver = factor_reusing(pattern, &lower, &self.points)?;
         let mut u = Mat::from_fn(n, 1, |v, _| if held(v) { 0.0 } else { -defects[v] });
-        solver?.solve_in_place(&mut u)?;
+        solver.solve_in_place(&mut u)?;
         let mut u: Vec<f64> = (0..n).map(|v| u[(v, 0)]).collect();
         if anchor.is_some() {
             let free: Vec<usize> = (0..n).filter(|&v| surface(v)).collect();

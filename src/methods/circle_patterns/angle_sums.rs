@@ -72,20 +72,31 @@ fn check_ranges(mesh: &TriMesh, sums: &[f64]) -> Result<()> {
 
 /// With every referenced vertex prescribed, Σ κ must be 2π χ.
 fn check_gauss_bonnet(mesh: &TriMesh, sums: &[f64]) -> Result<()> {
-    let referenced = (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_referenced(v));
-    if referenced.clone().any(|v| sums[v as usize].is_nan()) {
+    if (0..mesh.vertex_count() as u32).any(|v| mesh.is_referenced(v) && sums[v as usize].is_nan()) {
         return Ok(());
     }
-    let total: f64 =
-        referenced.map(|v| if mesh.is_boundary_vertex(v) { PI } else { 2.0 * PI } - sums[v as usize]).sum();
+    let total = prescribed_curvature(mesh, sums);
     let chi = mesh.topology().euler_characteristic as f64;
-    if (total - 2.0 * PI * chi).abs() > 1e-9 * (1.0 + mesh.vertex_count() as f64) {
+    if (total - 2.0 * PI * chi).abs() > gauss_bonnet_tolerance(mesh) {
         return Err(Error::InvalidArgument(format!(
             "the prescribed curvatures (boundary turning and cones) sum to {total}, but Gauss–Bonnet needs 2π χ = {} (χ = {chi})",
             2.0 * PI * chi
         )));
     }
     Ok(())
+}
+
+/// Σ κ_v over the prescribed vertices: π − sum at boundary vertices, 2π − sum inside.
+fn prescribed_curvature(mesh: &TriMesh, sums: &[f64]) -> f64 {
+    (0..mesh.vertex_count() as u32)
+        .filter(|&v| mesh.is_referenced(v) && !sums[v as usize].is_nan())
+        .map(|v| if mesh.is_boundary_vertex(v) { PI } else { 2.0 * PI } - sums[v as usize])
+        .sum()
+}
+
+/// Rounding allowed in a Gauss–Bonnet sum over the mesh's vertices.
+fn gauss_bonnet_tolerance(mesh: &TriMesh) -> f64 {
+    1e-9 * (1.0 + mesh.vertex_count() as f64)
 }
 
 /// Per vertex, an upper bound on the angle sum (NaN: none): with `convex`, π at every boundary
@@ -97,16 +108,12 @@ pub(super) fn convex_bounds(mesh: &TriMesh, sums: &[f64], convex: bool) -> Resul
     if !convex {
         return Ok(bounds);
     }
-    let mut prescribed = 0.0;
-    for v in (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_referenced(v)) {
-        let flat = if mesh.is_boundary_vertex(v) { PI } else { 2.0 * PI };
-        match sums[v as usize] {
-            sum if sum.is_nan() => bounds[v as usize] = PI,
-            sum => prescribed += flat - sum,
-        }
+    for v in (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_referenced(v) && sums[v as usize].is_nan()) {
+        bounds[v as usize] = PI;
     }
+    let prescribed = prescribed_curvature(mesh, sums);
     let chi = mesh.topology().euler_characteristic as f64;
-    if bounds.iter().any(|b| !b.is_nan()) && prescribed > 2.0 * PI * chi + 1e-9 * (1.0 + mesh.vertex_count() as f64) {
+    if bounds.iter().any(|b| !b.is_nan()) && prescribed > 2.0 * PI * chi + gauss_bonnet_tolerance(mesh) {
         return Err(Error::InvalidArgument(format!(
             "a convex boundary is impossible: the prescribed curvatures already sum to {prescribed}, more than 2π χ = {} (χ = {chi}), which would leave the free boundary vertices turning backwards",
             2.0 * PI * chi
