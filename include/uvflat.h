@@ -391,6 +391,16 @@
 #define DEFAULT_EDGES_PER_CELL 3.0
 
 /**
+ * Default cancellation distance, in grid cells.
+ */
+#define DEFAULT_PAIR_CELLS 2.0
+
+/**
+ * Screening length L of the correction, in grid cells (module comment).
+ */
+#define SCREENING_CELLS 2.0
+
+/**
  * Default α of the alignment weight s = α / h².
  */
 #define DEFAULT_ALIGNMENT 1.0
@@ -1637,6 +1647,13 @@ typedef struct UvfQuadCoverOptions {
    * Passed to `progress` unchanged.
    */
   void *progress_user;
+  /**
+   * Cone-pair cancellation distance in grid cells (default 2; 0 keeps the field's cones): ±
+   * cone pairs of the field closer than this are cancelled and cones this close to the
+   * boundary moved onto it, the field re-solved around them, before the cut and the
+   * integration. Fewer clustered cones fold the map less. Must be finite and >= 0.
+   */
+  double pair_cells;
 } UvfQuadCoverOptions;
 
 /**
@@ -1673,6 +1690,18 @@ typedef struct UvfQuadCoverReport {
    */
   double energy_continuous;
   double energy;
+  /**
+   * Cones of the field before the cone-pair cancellation (`cone_count` after it).
+   */
+  uint32_t cones_before_cancellation;
+  /**
+   * ± cone pairs the cancellation removed.
+   */
+  uint32_t cancelled_pairs;
+  /**
+   * Cones the cancellation moved onto the boundary.
+   */
+  uint32_t cones_moved_to_boundary;
 } UvfQuadCoverReport;
 
 #ifdef __cplusplus
@@ -2846,8 +2875,10 @@ void uvf_quadcover_options_default(struct UvfQuadCoverOptions *options);
  * QuadCover (Kälberer, Nieser & Polthier 2007; course notes ch. 8): a global parameterization
  * whose integer iso-lines close up over the whole surface, guided by a frame field. Field:
  * `field` (3 doubles per triangle, a tangent vector of each triangle, projected on its plane),
- * or when NULL a smooth cross field aligned with the principal curvature directions. The
- * field's matchings (§8.2.1), its cones (vertices of non-zero index), a cut through the cones,
+ * or when NULL a smooth cross field aligned with the principal curvature directions. ± cone
+ * pairs of the field closer than `pair_cells` grid cells are cancelled and cones that close
+ * to the boundary moved onto it (not in the paper; `pair_cells` = 0 keeps the field's cones).
+ * The field's matchings (§8.2.1), its cones (vertices of non-zero index), a cut through the cones,
  * the covering's transition functions J^r z + t across the cut (eq. 8.2), the minimizer of
  * ∫|∇f − K|² (eq. 8.6, the Hodge projection of eq. 8.7), then the gaps (and with
  * `cones_on_grid` the cone positions) rounded to integers one at a time (closest first), the

@@ -423,6 +423,58 @@ inline std::vector<double> circle_pattern_cone_map(const std::vector<double> &po
     return corner_uv;
 }
 
+/// Options of `quadcover`; 0 for `grid_spacing` is 3 mean edge lengths.
+struct QuadCoverOptions {
+    double grid_spacing = 0;
+    double alignment = 1;
+    bool round = true;
+    bool cones_on_grid = false;
+    /// ± cone pairs of the field closer than this many grid cells are cancelled, cones that
+    /// close to the boundary moved onto it; 0 keeps the field's cones.
+    double pair_cells = 2;
+    /// One tangent vector per triangle (3 doubles each); empty: the curvature-aligned field.
+    std::vector<double> field;
+    std::function<bool(double)> progress;
+};
+
+/// A QuadCover map: (u, v) per corner in grid units (6 doubles per triangle), 4 × the field's
+/// index per vertex (0 off the cones) and the report.
+struct QuadCoverMap {
+    std::vector<double> corner_uv;
+    std::vector<std::int32_t> cone_index;
+    UvfQuadCoverReport report{};
+};
+
+/// QuadCover (Kälberer, Nieser & Polthier 2007): a seamless global parameterization whose
+/// integer iso-lines close up over the surface (quarter turns and integer translations across
+/// every seam).
+inline QuadCoverMap quadcover(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+                              const QuadCoverOptions &options = {}) {
+    UvfQuadCoverOptions o;
+    uvf_quadcover_options_default(&o);
+    o.grid_spacing = options.grid_spacing;
+    o.alignment = options.alignment;
+    o.round = options.round ? 1 : 0;
+    o.cones_on_grid = options.cones_on_grid ? 1 : 0;
+    o.pair_cells = options.pair_cells;
+    const std::size_t nv = detail::count_of(positions, 3, "positions");
+    const std::size_t nt = detail::count_of(triangles, "triangles");
+    if (!options.field.empty() && options.field.size() != 3 * nt) {
+        throw Error(UVF_INVALID_ARGUMENT, "the field must hold 3 doubles per triangle (" + std::to_string(3 * nt) +
+                                              "), but its size is " + std::to_string(options.field.size()));
+    }
+    detail::Progress progress;
+    progress.callback = &options.progress;
+    progress.install(o);
+    QuadCoverMap map;
+    map.corner_uv.resize(6 * nt);
+    map.cone_index.resize(nv);
+    progress.finish(uvf_quadcover(positions.data(), nv, triangles.data(), nt, &o,
+                                  options.field.empty() ? nullptr : options.field.data(), map.corner_uv.data(),
+                                  map.cone_index.data(), &map.report));
+    return map;
+}
+
 /// Distortion of per-vertex UVs (2 doubles per vertex).
 inline UvfMetrics metrics(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
                           const std::vector<double> &uv) {

@@ -98,6 +98,10 @@ struct QuadCoverArgs {
     /// the gaps are integers, as in the course notes (fewer folds).
     #[arg(long = "cones-on-grid")]
     cones_on_grid: bool,
+    /// Cancel ± cone pairs of the field closer than this many grid cells, and move cones that
+    /// close to the boundary onto it (0: keep the field's cones).
+    #[arg(long = "pair-cells", default_value_t = uvflat::methods::quadcover::cone_pairs::DEFAULT_PAIR_CELLS)]
+    pair_cells: f64,
     /// Also write an SVG picture of the (u, v) triangles.
     #[arg(long)]
     svg: Option<PathBuf>,
@@ -856,6 +860,7 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
         alignment: args.alignment,
         round: !args.no_round,
         cones_on_grid: args.cones_on_grid,
+        pair_cells: args.pair_cells,
         ..QuadCoverOptions::default()
     };
     let start = Instant::now();
@@ -883,6 +888,10 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
                 "method": "quadcover", "seconds": seconds, "vertices": mesh.vertex_count(),
                 "triangles": mesh.triangle_count(), "genus": mesh.topology().genus,
                 "grid_spacing": result.grid_spacing, "cones": result.cones.len(), "chains": result.chains,
+                "cone_pairs": serde_json::json!({
+                    "cones_before": result.cone_pairs.cones_before, "pairs": result.cone_pairs.pairs,
+                    "moved_to_boundary": result.cone_pairs.moved_to_boundary, "trials": result.cone_pairs.trials,
+                }),
                 "flipped": result.flipped, "rounding_offset": result.rounding_offset,
                 "lattice_error": result.lattice_error, "energy_continuous": result.energy_continuous,
                 "energy": result.energy, "output": args.output.display().to_string(),
@@ -902,6 +911,13 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
             args.output.display()
         );
         println!("  cones / cutting paths       {} / {}", result.cones.len(), result.chains);
+        let pairs = &result.cone_pairs;
+        if pairs.pairs + pairs.moved_to_boundary > 0 {
+            println!(
+                "  cone-pair cancellation      {} -> {} cones ({} pairs cancelled, {} moved onto the boundary)",
+                pairs.cones_before, pairs.cones_after, pairs.pairs, pairs.moved_to_boundary
+            );
+        }
         println!(
             "  folded triangles            {} ({:.2}%)",
             result.flipped,

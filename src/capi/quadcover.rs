@@ -34,7 +34,15 @@ pub struct UvfQuadCoverOptions {
     pub progress: UvfProgressFn,
     /// Passed to `progress` unchanged.
     pub progress_user: *mut c_void,
+    /// Cone-pair cancellation distance in grid cells (default 2; 0 keeps the field's cones): ±
+    /// cone pairs of the field closer than this are cancelled and cones this close to the
+    /// boundary moved onto it, the field re-solved around them, before the cut and the
+    /// integration. Fewer clustered cones fold the map less. Must be finite and >= 0.
+    pub pair_cells: f64,
 }
+
+/// Size of the first version of `UvfQuadCoverOptions` (without `pair_cells`).
+const QUADCOVER_OPTIONS_V1: usize = std::mem::offset_of!(UvfQuadCoverOptions, pair_cells);
 
 impl Default for UvfQuadCoverOptions {
     fn default() -> Self {
@@ -47,6 +55,7 @@ impl Default for UvfQuadCoverOptions {
             cones_on_grid: 0,
             progress: None,
             progress_user: std::ptr::null_mut(),
+            pair_cells: d.pair_cells,
         }
     }
 }
@@ -71,6 +80,12 @@ pub struct UvfQuadCoverReport {
     /// Σ A |∇f − K|² / Σ A |K|² after the continuous solve, and in the result.
     pub energy_continuous: f64,
     pub energy: f64,
+    /// Cones of the field before the cone-pair cancellation (`cone_count` after it).
+    pub cones_before_cancellation: u32,
+    /// ± cone pairs the cancellation removed.
+    pub cancelled_pairs: u32,
+    /// Cones the cancellation moved onto the boundary.
+    pub cones_moved_to_boundary: u32,
 }
 
 /// Fills `options` with defaults (automatic grid spacing, alignment 1, rounding on, no callback).
@@ -87,8 +102,10 @@ pub unsafe extern "C" fn uvf_quadcover_options_default(options: *mut UvfQuadCove
 /// QuadCover (Kälberer, Nieser & Polthier 2007; course notes ch. 8): a global parameterization
 /// whose integer iso-lines close up over the whole surface, guided by a frame field. Field:
 /// `field` (3 doubles per triangle, a tangent vector of each triangle, projected on its plane),
-/// or when NULL a smooth cross field aligned with the principal curvature directions. The
-/// field's matchings (§8.2.1), its cones (vertices of non-zero index), a cut through the cones,
+/// or when NULL a smooth cross field aligned with the principal curvature directions. ± cone
+/// pairs of the field closer than `pair_cells` grid cells are cancelled and cones that close
+/// to the boundary moved onto it (not in the paper; `pair_cells` = 0 keeps the field's cones).
+/// The field's matchings (§8.2.1), its cones (vertices of non-zero index), a cut through the cones,
 /// the covering's transition functions J^r z + t across the cut (eq. 8.2), the minimizer of
 /// ∫|∇f − K|² (eq. 8.6, the Hodge projection of eq. 8.7), then the gaps (and with
 /// `cones_on_grid` the cone positions) rounded to integers one at a time (closest first), the
@@ -201,8 +218,7 @@ unsafe fn options_from_c(
     field: *const f64,
     triangle_count: usize,
 ) -> Result<(QuadCoverOptions, UvfProgressFn, *mut c_void)> {
-    let full = std::mem::size_of::<UvfQuadCoverOptions>();
-    let o = read_options(options, UvfQuadCoverOptions::default(), full, "UvfQuadCoverOptions")?;
+    let o = read_options(options, UvfQuadCoverOptions::default(), QUADCOVER_OPTIONS_V1, "UvfQuadCoverOptions")?;
     if !(o.grid_spacing.is_finite() && o.grid_spacing >= 0.0) {
         return Err(Error::InvalidArgument(format!(
             "grid_spacing must be finite and >= 0 (0: automatic; got {})",
@@ -214,6 +230,9 @@ unsafe fn options_from_c(
             "round and cones_on_grid must be 0 or 1 (got {} and {})",
             o.round, o.cones_on_grid
         )));
+    }
+    if !(o.pair_cells.is_finite() && o.pair_cells >= 0.0) {
+        return Err(Error::InvalidArgument(format!("pair_cells must be finite and >= 0 (got {})", o.pair_cells)));
     }
     let field = if field.is_null() {
         None
@@ -227,6 +246,7 @@ unsafe fn options_from_c(
         alignment: o.alignment,
         round: o.round == 1,
         cones_on_grid: o.cones_on_grid == 1,
+        pair_cells: o.pair_cells,
         ..QuadCoverOptions::default()
     };
     Ok((opts, o.progress, o.progress_user))
@@ -248,6 +268,9 @@ unsafe fn write_report(report_out: *mut UvfQuadCoverReport, result: &QuadCoverRe
             lattice_error: result.lattice_error,
             energy_continuous: result.energy_continuous,
             energy: result.energy,
+            cones_before_cancellation: result.cone_pairs.cones_before as u32,
+            cancelled_pairs: result.cone_pairs.pairs as u32,
+            cones_moved_to_boundary: result.cone_pairs.moved_to_boundary as u32,
         });
     }
 }

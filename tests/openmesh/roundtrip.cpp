@@ -12,7 +12,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
@@ -206,6 +208,51 @@ void check_cone_map(const std::string &name, const Arrays &a, const UvfMeshInfo 
     }
 }
 
+/// QuadCover on a closed mesh of at most 10k triangles: the cone indices sum to 4χ quarters
+/// (Hopf–Poincaré), the cancellation only removes cones, and across every edge the two
+/// triangles' (u, v) differ by a quarter turn and an integer translation.
+void check_quadcover(const std::string &name, const Arrays &a, const UvfMeshInfo &info) {
+    const std::size_t nt = a.triangles.size() / 3;
+    if (nt > 10000 || info.components != 1 || info.boundary_loops != 0) return;
+    try {
+        const uvflat::QuadCoverMap map = uvflat::quadcover(a.positions, a.triangles);
+        long long quarters = 0;
+        for (std::int32_t q : map.cone_index) quarters += q;
+        if (quarters != 4 * (long long)info.euler_characteristic) fail(name, "QuadCover cones against Hopf-Poincare");
+        if (map.report.cone_count > map.report.cones_before_cancellation) fail(name, "the cancellation added cones");
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> corner_of;
+        for (std::size_t c = 0; c < 3 * nt; ++c) {
+            corner_of[{a.triangles[c], a.triangles[c - c % 3 + (c + 1) % 3]}] = c;
+        }
+        double worst = 0;
+        for (const auto &[edge, c] : corner_of) {
+            const std::size_t d = corner_of.at({edge.second, edge.first});
+            const std::size_t c1 = c - c % 3 + (c + 1) % 3, d1 = d - d % 3 + (d + 1) % 3;
+            // f: a → b in c's triangle, g: b → a in d's; find the r with J^r (f_b − f_a) = g_a − g_b.
+            const double fu = map.corner_uv[2 * c1] - map.corner_uv[2 * c], fv = map.corner_uv[2 * c1 + 1] - map.corner_uv[2 * c + 1];
+            const double gu = map.corner_uv[2 * d] - map.corner_uv[2 * d1], gv = map.corner_uv[2 * d + 1] - map.corner_uv[2 * d1 + 1];
+            double best = 1e300;
+            for (int r = 0; r < 4; ++r) {
+                double u = fu, v = fv, au = map.corner_uv[2 * c], av = map.corner_uv[2 * c + 1];
+                for (int k = 0; k < r; ++k) {
+                    u = std::exchange(v, -u);
+                    au = std::exchange(av, -au);
+                }
+                const double misfit = std::hypot(u - gu, v - gv);
+                // The translation maps a's corner in c's triangle onto a's corner in d's.
+                const double tu = map.corner_uv[2 * d1] - au, tv = map.corner_uv[2 * d1 + 1] - av;
+                best = std::min(best, misfit + std::abs(tu - std::round(tu)) + std::abs(tv - std::round(tv)));
+            }
+            worst = std::max(worst, best);
+        }
+        std::printf("%s: QuadCover %u cones (%u before the cancellation), %u folded, seams off by %.1e\n", name.c_str(),
+                    map.report.cone_count, map.report.cones_before_cancellation, map.report.flipped_count, worst);
+        if (!(worst < 1e-6)) fail(name, "QuadCover seams are not quarter turns and integer translations");
+    } catch (const uvflat::Error &e) {
+        fail(name, std::string("QuadCover failed: ") + e.what());
+    }
+}
+
 void check_mesh(const std::string &path, const std::string &out_dir) {
     const std::string name = base_name(path);
     Mesh mesh;
@@ -229,6 +276,7 @@ void check_mesh(const std::string &path, const std::string &out_dir) {
     if (disk_with_holes && info.boundary_loops == 1) check_boundary_editor(name, a);
     if (disk_with_holes && info.boundary_loops == 1) check_disk_methods(name, a);
     check_cone_map(name, a, info);
+    check_quadcover(name, a, info);
     if (!disk_with_holes) {
         try {
             uvflat::natural_conformal_map(a.positions, a.triangles);

@@ -1423,6 +1423,16 @@ def test_quadcover_gives_integer_seams_and_cones_and_checks_its_input():
     # The course notes' variant (the default): integer gaps, cones anywhere, fewer folds.
     _, _, gaps_only = uvflat.quadcover(p, t)
     assert gaps_only.lattice_error < 1e-9 and gaps_only.cone_count == report.cone_count
+    # The cone-pair cancellation (default 2 cells) removes cones the field alone has, and
+    # keeps the index sum.
+    _, kept_cones, kept = uvflat.quadcover(p, t, pair_cells=0)
+    assert kept.cones_before_cancellation == kept.cone_count == int((kept_cones != 0).sum())
+    assert kept.cancelled_pairs == 0 and kept.cones_moved_to_boundary == 0
+    assert report.cones_before_cancellation == kept.cone_count
+    assert report.cone_count < kept.cone_count and report.cancelled_pairs > 0
+    assert int(kept_cones.sum()) == -16
+    with pytest.raises(uvflat.InvalidArgument, match="pair_cells"):
+        uvflat.quadcover(p, t, pair_cells=-1.0)
     with pytest.raises(uvflat.InvalidArgument):
         uvflat.quadcover(p, t, grid_spacing=-1.0)
     with pytest.raises(uvflat.InvalidArgument):

@@ -985,6 +985,12 @@ class QuadCoverReport:
     #: Σ A |∇f − K|² / Σ A |K|² of the continuous solve and of the result.
     energy_continuous: float
     energy: float
+    #: Cones of the field before the cone-pair cancellation (``cone_count`` is after it).
+    cones_before_cancellation: int
+    #: ± cone pairs the cancellation removed.
+    cancelled_pairs: int
+    #: Cones the cancellation moved onto the boundary.
+    cones_moved_to_boundary: int
 
 
 def quadcover(
@@ -996,6 +1002,7 @@ def quadcover(
     alignment: Optional[float] = None,
     round: bool = True,
     cones_on_grid: bool = False,
+    pair_cells: Optional[float] = None,
     progress: Optional[ProgressCallback] = None,
 ) -> Tuple[np.ndarray, np.ndarray, QuadCoverReport]:
     """QuadCover (Kälberer, Nieser & Polthier 2007; course notes ch. 8; ``uvf_quadcover``): a
@@ -1012,6 +1019,10 @@ def quadcover(
         grid_spacing: surface length of one grid cell (default: 3 mean edge lengths).
         alignment: curvature alignment of the default field (default 1; > 0).
         round: ``False`` returns the continuous solve (gaps not integer).
+        pair_cells: ± cone pairs of the field closer than this many grid cells are cancelled,
+            and cones that close to the boundary moved onto it, before the map is computed
+            (default 2; 0 keeps the field's cones; not in the paper). Fewer clustered cones fold
+            the map less.
 
     Returns:
         ``(corner_uv, cone_index, report)``: ``(m, 3, 2)`` (u, v) per triangle corner in grid
@@ -1019,7 +1030,7 @@ def quadcover(
         :class:`QuadCoverReport`.
     """
     p, t = _mesh_arrays(positions, triangles)
-    options, f = _quadcover_options(t, field, grid_spacing, alignment, round, cones_on_grid)
+    options, f = _quadcover_options(t, field, grid_spacing, alignment, round, cones_on_grid, pair_cells)
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     corner_uv = np.empty((len(t), 3, 2), dtype=np.float64)
@@ -1052,6 +1063,7 @@ def quadcover_quad_mesh(
     grid_spacing: Optional[float] = None,
     alignment: Optional[float] = None,
     cones_on_grid: bool = False,
+    pair_cells: Optional[float] = None,
     progress: Optional[ProgressCallback] = None,
 ) -> Tuple[np.ndarray, List[np.ndarray], QuadCoverReport]:
     """The integer grid lines of a :func:`quadcover` map as a polygon mesh on the surface
@@ -1067,7 +1079,7 @@ def quadcover_quad_mesh(
         and the :class:`QuadCoverReport` of the map.
     """
     p, t = _mesh_arrays(positions, triangles)
-    options, f = _quadcover_options(t, field, grid_spacing, alignment, True, cones_on_grid)
+    options, f = _quadcover_options(t, field, grid_spacing, alignment, True, cones_on_grid, pair_cells)
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     report = L.UvfQuadCoverReport()
@@ -1083,10 +1095,12 @@ def quadcover_quad_mesh(
     return quad_positions, faces, _from_struct(QuadCoverReport, report)
 
 
-def _quadcover_options(t, field, grid_spacing, alignment, round, cones_on_grid):
+def _quadcover_options(t, field, grid_spacing, alignment, round, cones_on_grid, pair_cells):
     """``UvfQuadCoverOptions`` and the checked field array (or None)."""
     options = L.UvfQuadCoverOptions()
     L.library().uvf_quadcover_options_default(byref(options))
+    if pair_cells is not None:
+        options.pair_cells = float(pair_cells)
     if grid_spacing is not None:
         options.grid_spacing = float(grid_spacing)
     if alignment is not None:

@@ -312,6 +312,7 @@ class UvfQuadCoverOptions(Structure):
         ("cones_on_grid", c_uint32),
         ("progress", UvfProgressFn),
         ("progress_user", c_void_p),
+        ("pair_cells", c_double),
     ]
 
 
@@ -327,6 +328,9 @@ class UvfQuadCoverReport(Structure):
         ("lattice_error", c_double),
         ("energy_continuous", c_double),
         ("energy", c_double),
+        ("cones_before_cancellation", c_uint32),
+        ("cancelled_pairs", c_uint32),
+        ("cones_moved_to_boundary", c_uint32),
     ]
 
 

@@ -418,9 +418,9 @@ fn field_from_angles(normals: &[[f64; 3]], reference: &[[f64; 3]], beta: &[f64])
         .collect()
 }
 
-/// f64 ordered by `total_cmp`, for the heap.
+/// f64 ordered by `total_cmp`, for the heap (also of [`crate::methods::quadcover::cone_pairs`]).
 #[derive(PartialEq)]
-struct Ordered(f64);
+pub(crate) struct Ordered(pub(crate) f64);
 
 impl Eq for Ordered {}
 

@@ -22,6 +22,7 @@
 //! What it does not: the map may fold near cones after rounding (the notes' algorithm
 //! rounds all gaps at once); the count is reported.
 
+pub mod cone_pairs;
 pub mod covering;
 pub mod field;
 pub mod integration;
@@ -66,6 +67,10 @@ pub struct QuadCoverOptions {
     /// does, so that cones become irregular vertices of a quad mesh). `false` (the course
     /// notes' QuadCover): only the gaps are integers; a cone may sit at a half-integer point.
     pub cones_on_grid: bool,
+    /// Cone-pair cancellation distance in grid cells ([`cone_pairs`]): ± cone pairs of the
+    /// field closer than this are cancelled and cones closer than this to the boundary moved
+    /// onto it. 0 keeps the field's cones as they are.
+    pub pair_cells: f64,
 }
 
 impl Default for QuadCoverOptions {
@@ -77,6 +82,7 @@ impl Default for QuadCoverOptions {
             alignment: field::DEFAULT_ALIGNMENT,
             round: true,
             cones_on_grid: false,
+            pair_cells: cone_pairs::DEFAULT_PAIR_CELLS,
         }
     }
 }
@@ -111,6 +117,8 @@ pub struct QuadCoverResult {
     /// Eq. 8.6 relative to the field's energy, after the continuous and the final solve.
     pub energy_continuous: f64,
     pub energy: f64,
+    /// What the cone-pair cancellation did.
+    pub cone_pairs: cone_pairs::ConePairReport,
 }
 
 /// Runs QuadCover (module comment). Errors: bad options or field (naming the triangle),
@@ -124,8 +132,13 @@ pub fn quadcover(mesh: &TriMesh, options: &QuadCoverOptions, progress: &mut Prog
     if mesh.topology().components != 1 {
         return Err(Error::MultipleComponents { components: mesh.topology().components });
     }
+    if !(options.pair_cells.is_finite() && options.pair_cells >= 0.0) {
+        return Err(Error::InvalidArgument(format!("pair_cells must be finite and >= 0 (got {})", options.pair_cells)));
+    }
     progress.report(0.0)?;
-    let directions = frame_field(mesh, options, spacing, progress)?;
+    let field = frame_field(mesh, options, spacing, progress)?;
+    progress.report(0.3)?;
+    let (directions, pair_report) = cone_pairs::cancel_cone_pairs(mesh, &field, options.pair_cells * spacing, spacing)?;
     progress.report(0.4)?;
     let indices = face_field_indices(mesh, &directions, 4);
     let cone_list: Vec<u32> = (0..mesh.vertex_count() as u32).filter(|&v| indices[v as usize].abs() > 0.125).collect();
@@ -163,6 +176,7 @@ pub fn quadcover(mesh: &TriMesh, options: &QuadCoverOptions, progress: &mut Prog
         fractional_pivots: cover.fractional_pivots,
         energy_continuous,
         energy,
+        cone_pairs: pair_report,
         uv,
         corner_rotation: cut.triangles.iter().map(|tri| tri.map(|c| cover.copy_rotation[c as usize])).collect(),
     })
