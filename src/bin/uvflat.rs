@@ -914,7 +914,7 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
         let pairs = &result.cone_pairs;
         if pairs.pairs + pairs.moved_to_boundary > 0 {
             println!(
-                "  cone-pair cancellation      {} -> {} cones ({} pairs cancelled, {} moved onto the boundary)",
+                "  cone-pair cancellation      {} -> {} cones ({} pair moves, {} cones moved onto the boundary)",
                 pairs.cones_before, pairs.cones_after, pairs.pairs, pairs.moved_to_boundary
             );
         }

@@ -82,9 +82,10 @@ pub struct UvfQuadCoverReport {
     pub energy: f64,
     /// Cones of the field before the cone-pair cancellation (`cone_count` after it).
     pub cones_before_cancellation: u32,
-    /// ± cone pairs the cancellation removed.
+    /// ± pair moves the cancellation kept (re-matching the field can open cones elsewhere, so
+    /// the net change is `cones_before_cancellation − cone_count`).
     pub cancelled_pairs: u32,
-    /// Cones the cancellation moved onto the boundary.
+    /// Cone-to-boundary moves the cancellation kept.
     pub cones_moved_to_boundary: u32,
 }
 

@@ -987,9 +987,10 @@ class QuadCoverReport:
     energy: float
     #: Cones of the field before the cone-pair cancellation (``cone_count`` is after it).
     cones_before_cancellation: int
-    #: ± cone pairs the cancellation removed.
+    #: ± pair moves the cancellation kept (re-matching can open cones elsewhere: the net
+    #: change is ``cones_before_cancellation - cone_count``).
     cancelled_pairs: int
-    #: Cones the cancellation moved onto the boundary.
+    #: Cone-to-boundary moves the cancellation kept.
     cones_moved_to_boundary: int
 
 
