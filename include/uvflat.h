@@ -92,6 +92,14 @@
 #define UVF_SPHERE_STEREOGRAPHIC 2
 
 /**
+ * Kharevych, Springborn & Schröder 2006: the planar circle pattern of the mesh minus one vertex
+ * star (its link on a convex polygon whose corners are the removed spokes' intersection
+ * angles), balanced so the vertex areas' centroid is the sphere's centre, inverse
+ * stereographic projection: conformal (no guarantee against flips; they are counted).
+ */
+#define UVF_SPHERE_CIRCLE_PATTERNS 3
+
+/**
  * Edge-length distortion `Σ_edges (|u_i − u_j|² / |x_i − x_j|² − 1)²` (Desbrun et al. 2002 §5.1).
  */
 #define UVF_ENERGY_EDGE_LENGTH 0
@@ -821,7 +829,7 @@ typedef struct UvfSphereOptions {
    */
   uint32_t method;
   /**
-   * Relaxation sweeps (default 100); ignored by the stereographic method.
+   * Relaxation sweeps (default 100); ignored by the stereographic and circle-pattern methods.
    */
   uint32_t sweeps;
 } UvfSphereOptions;
@@ -1695,11 +1703,12 @@ typedef struct UvfQuadCoverReport {
    */
   uint32_t cones_before_cancellation;
   /**
-   * ± cone pairs the cancellation removed.
+   * ± pair moves the cancellation kept (re-matching the field can open cones elsewhere, so
+   * the net change is `cones_before_cancellation − cone_count`).
    */
   uint32_t cancelled_pairs;
   /**
-   * Cones the cancellation moved onto the boundary.
+   * Cone-to-boundary moves the cancellation kept.
    */
   uint32_t cones_moved_to_boundary;
 } UvfQuadCoverReport;

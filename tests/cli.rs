@@ -429,6 +429,10 @@ fn sphere_writes_unit_sphere_vertices_without_flips() {
         .collect();
     assert_eq!(radii.len(), 3301);
     assert!(radii.iter().all(|r| (r - 1.0).abs() < 1e-9));
+    // The conformal circle-pattern map: no flip on the bunny either.
+    let report =
+        json(&uvflat(&["sphere", &input, "-o", out.to_str().unwrap(), "--method", "circle-patterns", "--json"]));
+    assert_eq!((report["flipped"].as_u64(), report["method"].as_str()), (Some(0), Some("circle-patterns")), "{report}");
     let o = uvflat(&["sphere", &format!("{MESHES}/closed_g1_torus.obj"), "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("genus"), "{}", stderr(&o));

@@ -142,3 +142,84 @@ fn tutte_gnomonic_maps_the_octahedron_without_flips() {
         }
     }
 }
+
+/// Mean |angle of the chordal triangle on the sphere − 3D angle| over the corners, degrees.
+fn sphere_angle_error(mesh: &TriMesh, sphere: &[[f64; 3]]) -> f64 {
+    let on_sphere = uvflat::geometry::corner_angles(sphere, mesh.triangles());
+    let (mut total, mut count) = (0.0, 0usize);
+    for (a, b) in on_sphere.iter().zip(mesh.corner_angles()) {
+        for k in 0..3 {
+            if a[k].is_finite() {
+                total += (a[k] - b[k]).abs();
+                count += 1;
+            }
+        }
+    }
+    (total / count.max(1) as f64).to_degrees()
+}
+
+#[test]
+fn circle_pattern_sphere_map_keeps_angles_better_than_the_other_sphere_maps() {
+    // Kharevych et al. 2006 over the sphere: a conformal map, so the angles of the (small)
+    // triangles are kept; Haker's stereographic map is a discretely harmonic one with a triangle
+    // pinned and Tutte–gnomonic is not conformal at all. The large scans (> 35k triangles) take
+    // a minute: UVFLAT_SPHERE_MAX_FACES=100000 includes them.
+    let max_faces: usize = std::env::var("UVFLAT_SPHERE_MAX_FACES").ok().and_then(|s| s.parse().ok()).unwrap_or(35_000);
+    println!("| mesh | triangles | angle error ° circle patterns / stereographic / Tutte–gnomonic | flipped circle patterns / stereographic | s |");
+    println!("|---|--:|--:|--:|--:|");
+    for file in files("closed_g0_") {
+        let mesh = load(&file);
+        if mesh.triangle_count() > max_faces {
+            continue;
+        }
+        let start = Instant::now();
+        let map = |method| {
+            spherical_map(&mesh, &SphereOptions { method, sweeps: 100 }).unwrap_or_else(|e| panic!("{file}: {e}"))
+        };
+        let circles = map(SphereMethod::CirclePatterns);
+        let seconds = start.elapsed().as_secs_f64();
+        let (stereo, tutte) = (map(SphereMethod::Stereographic), map(SphereMethod::TutteGnomonic));
+        let errors = [&circles, &stereo, &tutte].map(|m| sphere_angle_error(&mesh, &m.positions));
+        println!(
+            "| {file} | {} | {:.2} / {:.2} / {:.2} | {} / {} | {seconds:.2} |",
+            mesh.triangle_count(),
+            errors[0],
+            errors[1],
+            errors[2],
+            circles.flipped,
+            stereo.flipped
+        );
+        for (v, p) in circles.positions.iter().enumerate() {
+            if mesh.is_referenced(v as u32) {
+                assert!((p.iter().map(|x| x * x).sum::<f64>().sqrt() - 1.0).abs() < 1e-9, "{file}: off the sphere");
+            }
+        }
+        assert!(errors[0] < errors[1] && errors[0] < errors[2], "{file}: angle errors {errors:?}");
+    }
+}
+
+#[test]
+fn circle_pattern_sphere_map_turns_with_the_input_and_ignores_its_scale() {
+    // A rotated, scaled and moved copy of the bunny maps to the same sphere positions up to a
+    // rotation: the Gram matrix of a sample of vertices is the same.
+    let mesh = load("closed_g0_bunny.obj");
+    let (c, s) = (0.6f64, 0.8f64);
+    let moved: Vec<f64> = mesh
+        .points()
+        .iter()
+        .flat_map(|p| [3.0 * (c * p[0] - s * p[1]) + 1.0, 3.0 * (s * p[0] + c * p[1]) - 2.0, 3.0 * p[2] + 0.5])
+        .collect();
+    let triangles: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
+    let copy = TriMesh::new(&moved, &triangles).expect("copy");
+    let options = SphereOptions { method: SphereMethod::CirclePatterns, sweeps: 0 };
+    let (a, b) = (spherical_map(&mesh, &options).unwrap(), spherical_map(&copy, &options).unwrap());
+    let sample: Vec<usize> = (0..mesh.vertex_count()).step_by(97).collect();
+    let mut worst = 0.0f64;
+    for &i in &sample {
+        for &j in &sample {
+            let dot = |m: &[[f64; 3]]| (0..3).map(|k| m[i][k] * m[j][k]).sum::<f64>();
+            worst = worst.max((dot(&a.positions) - dot(&b.positions)).abs());
+        }
+    }
+    assert!(worst < 1e-6, "Gram matrices differ by {worst:.2e}");
+}

@@ -241,6 +241,9 @@ enum SphereMethodName {
     GaussSeidel,
     /// Haker et al. 2000: harmonic map minus one triangle, inverse stereographic (may flip).
     Stereographic,
+    /// Kharevych et al. 2006: conformal circle pattern minus one vertex star, balanced,
+    /// inverse stereographic (may flip).
+    CirclePatterns,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -820,6 +823,7 @@ fn sphere(args: &SphereArgs) -> Result<(), Failure> {
         SphereMethodName::TutteGnomonic => SphereMethod::TutteGnomonic,
         SphereMethodName::GaussSeidel => SphereMethod::GaussSeidel,
         SphereMethodName::Stereographic => SphereMethod::Stereographic,
+        SphereMethodName::CirclePatterns => SphereMethod::CirclePatterns,
     };
     let start = Instant::now();
     let map = spherical_map(&mesh, &SphereOptions { method, sweeps: args.sweeps })?;

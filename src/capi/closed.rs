@@ -233,6 +233,11 @@ pub const UVF_SPHERE_GAUSS_SEIDEL: u32 = 1;
 /// Haker et al. 2000: harmonic map of the mesh minus one triangle + inverse stereographic
 /// projection (no guarantee).
 pub const UVF_SPHERE_STEREOGRAPHIC: u32 = 2;
+/// Kharevych, Springborn & Schröder 2006: the planar circle pattern of the mesh minus one vertex
+/// star (its link on a convex polygon whose corners are the removed spokes' intersection
+/// angles), balanced so the vertex areas' centroid is the sphere's centre, inverse
+/// stereographic projection: conformal (no guarantee against flips; they are counted).
+pub const UVF_SPHERE_CIRCLE_PATTERNS: u32 = 3;
 
 /// Options of `uvf_spherical_map`. Initialise with `uvf_sphere_options_default`.
 #[repr(C)]
@@ -242,7 +247,7 @@ pub struct UvfSphereOptions {
     pub struct_size: usize,
     /// One of `UVF_SPHERE_*` (default `UVF_SPHERE_TUTTE_GNOMONIC`).
     pub method: u32,
-    /// Relaxation sweeps (default 100); ignored by the stereographic method.
+    /// Relaxation sweeps (default 100); ignored by the stereographic and circle-pattern methods.
     pub sweeps: u32,
 }
 
@@ -291,6 +296,7 @@ pub unsafe extern "C" fn uvf_spherical_map(
             UVF_SPHERE_TUTTE_GNOMONIC => SphereMethod::TutteGnomonic,
             UVF_SPHERE_GAUSS_SEIDEL => SphereMethod::GaussSeidel,
             UVF_SPHERE_STEREOGRAPHIC => SphereMethod::Stereographic,
+            UVF_SPHERE_CIRCLE_PATTERNS => SphereMethod::CirclePatterns,
             m => return Err(Error::InvalidArgument(format!("unknown sphere method {m}; use one of UVF_SPHERE_*"))),
         };
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;

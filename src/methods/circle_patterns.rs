@@ -64,8 +64,10 @@ use std::f64::consts::PI;
 mod angle_ipm;
 mod angle_sums;
 mod cones;
+mod sphere;
 pub use angle_sums::polygon_boundary_curvature;
 pub use cones::{circle_pattern_cone_map, ConeMapResult};
+pub use sphere::circle_pattern_sphere_map;
 
 /// Smallest gap π − θ_e the angle program allows (radians): at θ = π the two circles
 /// coincide and the kite's weight sin θ / (2 (cosh x + cos θ)) runs to 0 or ∞.

@@ -41,6 +41,11 @@
 //!      means positive throughout: the map stays a valid embedding at every step (the local
 //!      degree at each vertex cannot jump while no triangle degenerates).
 //!   The result has zero flipped triangles by construction (the count is still measured).
+//! - [`SphereMethod::CirclePatterns`] — the conformal map of Kharevych, Springborn & Schröder
+//!   2006 over the sphere ([`crate::methods::circle_patterns::circle_pattern_sphere_map`]): the
+//!   planar circle pattern of the mesh minus one vertex star, with the link on a convex polygon
+//!   whose corners are the removed spokes' intersection angles, then a similarity balancing
+//!   the vertex areas and inverse stereographic projection. Flips are reported.
 //!
 //! Cost: Gauss–Seidel O(sweeps · E); stereographic and Tutte–gnomonic one sparse solve plus
 //! O(sweeps · E) for the relaxation.
@@ -50,6 +55,7 @@ use crate::error::{Error, Result};
 use crate::geometry::{cross, dot, norm, norm2, sub};
 use crate::mesh::{TriMesh, NONE};
 use crate::methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions, Weights};
+use crate::methods::circle_patterns::circle_pattern_sphere_map;
 
 /// Spherical parameterization method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -62,6 +68,10 @@ pub enum SphereMethod {
     /// Tutte embedding of the mesh minus one vertex star, gnomonic lift, flip-guarded
     /// relaxation: never flips.
     TutteGnomonic,
+    /// Kharevych, Springborn & Schröder 2006: the planar circle pattern of the mesh minus one
+    /// vertex star, its boundary a convex polygon whose corners are the intersection angles of
+    /// the removed spokes, balanced and projected stereographically (conformal; flips counted).
+    CirclePatterns,
 }
 
 /// Options of [`spherical_map`].
@@ -108,6 +118,10 @@ pub fn spherical_map(mesh: &TriMesh, options: &SphereOptions) -> Result<SphereMa
         SphereMethod::GaussSeidel => gauss_seidel(mesh, options.sweeps),
         SphereMethod::Stereographic => stereographic(mesh)?,
         SphereMethod::TutteGnomonic => tutte_gnomonic(mesh, options.sweeps)?,
+        SphereMethod::CirclePatterns => {
+            let options = crate::methods::circle_patterns::CirclePatternOptions::default();
+            circle_pattern_sphere_map(mesh, &options, &mut crate::progress::Progress::none())?.0
+        }
     };
     orient_outward(mesh, &mut positions);
     let flipped = count_spherical_flips(&positions, mesh.triangles());

@@ -691,6 +691,18 @@ static void check_closed_surfaces(void) {
     for (k = 0; k < 6; k++)
         check(fabs(sphere[3 * k] * sphere[3 * k] + sphere[3 * k + 1] * sphere[3 * k + 1] +
                    sphere[3 * k + 2] * sphere[3 * k + 2] - 1.0) < 1e-12, "positions on the unit sphere");
+    sphere_options.method = UVF_SPHERE_CIRCLE_PATTERNS;
+    status = uvf_spherical_map(oct, 6, oct_tris, 8, &sphere_options, sphere, &flipped);
+    check(status == UVF_OK && flipped == 0, "octahedron by circle patterns");
+    /* The octahedron is mapped onto a regular octahedron: opposite vertices antipodal. */
+    for (k = 0; k < 6; k += 2)
+        check(fabs(sphere[3 * k] * sphere[3 * k + 3] + sphere[3 * k + 1] * sphere[3 * k + 4] +
+                   sphere[3 * k + 2] * sphere[3 * k + 5] + 1.0) < 1e-9,
+              "circle-pattern octahedron: opposite vertices antipodal");
+    sphere_options.method = 42;
+    check(uvf_spherical_map(oct, 6, oct_tris, 8, &sphere_options, sphere, &flipped) == UVF_INVALID_ARGUMENT,
+          "unknown sphere method refused");
+    sphere_options.method = UVF_SPHERE_TUTTE_GNOMONIC;
     status = uvf_spherical_map(pos, TN * TM, tris, 2 * TN * TM, NULL, sphere, &flipped);
     check(status == UVF_UNSUPPORTED_TOPOLOGY, "a torus has no spherical map");
 }

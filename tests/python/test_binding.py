@@ -910,6 +910,19 @@ def test_spherical_map_of_a_closed_genus_zero_mesh_is_on_the_unit_sphere_without
     sphere, flipped = uvflat.spherical_map(p, t)
     assert flipped == 0
     assert np.allclose(np.linalg.norm(sphere, axis=1), 1.0, atol=1e-12)
+    # The circle-pattern map is conformal: the angles of the chordal triangles stay closer to
+    # the mesh's own than the Tutte embedding's do.
+    conformal, _ = uvflat.spherical_map(p, t, method="circle_patterns")
+    assert np.allclose(np.linalg.norm(conformal, axis=1), 1.0, atol=1e-12)
+
+    def angles(x):
+        a, b, c = x[t[:, 0]], x[t[:, 1]], x[t[:, 2]]
+        u, w = b - a, c - a
+        return np.arccos(np.clip((u * w).sum(1) / np.linalg.norm(u, axis=1) / np.linalg.norm(w, axis=1), -1, 1))
+
+    assert np.abs(angles(conformal) - angles(p)).mean() < np.abs(angles(sphere) - angles(p)).mean()
+    with pytest.raises(uvflat.InvalidArgument, match="method"):
+        uvflat.spherical_map(p, t, method="mercator")
     with pytest.raises(uvflat.UnsupportedTopology):
         uvflat.spherical_map(*load_mesh("closed_g1_bob.obj"))
 

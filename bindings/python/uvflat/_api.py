@@ -1307,8 +1307,9 @@ def abf(
 
 def spherical_map(positions: ArrayLike, triangles: ArrayLike, method: str = "tutte_gnomonic") -> Tuple[np.ndarray, int]:
     """Spherical parameterization of a closed genus-0 mesh (``uvf_spherical_map``; course notes
-    §6.1): ``tutte_gnomonic`` (flip-free construction, default), ``gauss_seidel`` or
-    ``stereographic`` (Haker et al. 2000).
+    §6.1): ``tutte_gnomonic`` (flip-free construction, default), ``gauss_seidel``,
+    ``stereographic`` (Haker et al. 2000) or ``circle_patterns`` (Kharevych et al. 2006:
+    conformal; angles kept best, flips counted).
 
     Returns:
         ``(sphere, flipped)``: ``(n, 3)`` unit vectors and the count of flipped spherical
@@ -1323,6 +1324,7 @@ def spherical_map(positions: ArrayLike, triangles: ArrayLike, method: str = "tut
             "tutte_gnomonic": L.UVF_SPHERE_TUTTE_GNOMONIC,
             "gauss_seidel": L.UVF_SPHERE_GAUSS_SEIDEL,
             "stereographic": L.UVF_SPHERE_STEREOGRAPHIC,
+            "circle_patterns": L.UVF_SPHERE_CIRCLE_PATTERNS,
         },
         "method",
     )
