@@ -1,8 +1,9 @@
 //! Conformal parameterization by circle patterns (Kharevych, Springborn & Schröder 2006,
 //! "Discrete conformal mappings via circle patterns", ACM TOG 25(2); course notes 2008 §4.4,
 //! Figure 4.3), for disks (holes allowed) with a free or prescribed boundary
-//! ([`polygon_boundary_curvature`]), and with cone singularities on meshes of any genus
-//! ([`circle_pattern_cone_map`]).
+//! ([`polygon_boundary_curvature`]), with cone singularities on meshes of any genus
+//! ([`circle_pattern_cone_map`]), and over the sphere for closed genus-0 meshes
+//! ([`circle_pattern_sphere_map`], `sphere.rs`).
 //!
 //! One circle per triangle, the circumcircle; two circles meet at the two ends of their common
 //! edge. For the triangle angles α (α_a at corner a, opposite the edge e(a)) the *intersection
