@@ -423,6 +423,31 @@ inline std::vector<double> circle_pattern_cone_map(const std::vector<double> &po
     return corner_uv;
 }
 
+enum class SphereMethod : std::uint32_t {
+    tutte_gnomonic = UVF_SPHERE_TUTTE_GNOMONIC,
+    gauss_seidel = UVF_SPHERE_GAUSS_SEIDEL,
+    stereographic = UVF_SPHERE_STEREOGRAPHIC,
+    circle_patterns = UVF_SPHERE_CIRCLE_PATTERNS,
+};
+
+/// Spherical parameterization of a closed genus-0 mesh: 3 doubles per vertex on the unit sphere;
+/// the flipped spherical triangles go to `*flipped` if given (0 with `tutte_gnomonic`).
+inline std::vector<double> spherical_map(const std::vector<double> &positions,
+                                         const std::vector<std::uint32_t> &triangles,
+                                         SphereMethod method = SphereMethod::tutte_gnomonic,
+                                         std::size_t *flipped = nullptr) {
+    UvfSphereOptions o;
+    uvf_sphere_options_default(&o);
+    o.method = static_cast<std::uint32_t>(method);
+    const std::size_t nv = detail::count_of(positions, 3, "positions");
+    std::vector<double> sphere(3 * nv);
+    std::size_t count = 0;
+    detail::check(uvf_spherical_map(positions.data(), nv, triangles.data(), detail::count_of(triangles, "triangles"),
+                                    &o, sphere.data(), &count));
+    if (flipped) *flipped = count;
+    return sphere;
+}
+
 /// Options of `quadcover`; 0 for `grid_spacing` is 3 mean edge lengths.
 struct QuadCoverOptions {
     double grid_spacing = 0;

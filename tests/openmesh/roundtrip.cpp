@@ -208,6 +208,54 @@ void check_cone_map(const std::string &name, const Arrays &a, const UvfMeshInfo 
     }
 }
 
+/// The spherical maps of a closed genus-0 mesh of at most 10k triangles: Tutte–gnomonic never
+/// flips, and the conformal circle-pattern map keeps the mesh's angles better than it.
+void check_sphere(const std::string &name, const Arrays &a, const UvfMeshInfo &info) {
+    const std::size_t nt = a.triangles.size() / 3;
+    if (nt > 10000 || info.components != 1 || info.boundary_loops != 0 || info.genus != 0) return;
+    try {
+        std::size_t flipped = 0, conformal_flipped = 0;
+        const std::vector<double> tutte = uvflat::spherical_map(a.positions, a.triangles, uvflat::SphereMethod::tutte_gnomonic, &flipped);
+        const std::vector<double> circles =
+            uvflat::spherical_map(a.positions, a.triangles, uvflat::SphereMethod::circle_patterns, &conformal_flipped);
+        if (flipped != 0) fail(name, "the Tutte-gnomonic sphere map flipped");
+        auto angle_error = [&](const std::vector<double> &x) {
+            double total = 0;
+            std::size_t count = 0;
+            for (std::size_t t = 0; t < nt; ++t) {
+                for (int k = 0; k < 3; ++k) {
+                    auto angle = [&](const std::vector<double> &p) {
+                        const std::uint32_t *v = &a.triangles[3 * t];
+                        const std::uint32_t i = v[k], j = v[(k + 1) % 3], l = v[(k + 2) % 3];
+                        double u[3], w[3], uu = 0, ww = 0, uw = 0;
+                        for (int d = 0; d < 3; ++d) {
+                            u[d] = p[3 * j + d] - p[3 * i + d];
+                            w[d] = p[3 * l + d] - p[3 * i + d];
+                            uu += u[d] * u[d];
+                            ww += w[d] * w[d];
+                            uw += u[d] * w[d];
+                        }
+                        return std::acos(std::clamp(uw / std::sqrt(uu * ww), -1.0, 1.0));
+                    };
+                    // Triangles collapsed to a point on the sphere (cow's legs) have no angle.
+                    const double e = std::abs(angle(x) - angle(a.positions));
+                    if (std::isfinite(e)) {
+                        total += e;
+                        ++count;
+                    }
+                }
+            }
+            return total / double(std::max<std::size_t>(count, 1));
+        };
+        const double e_tutte = angle_error(tutte), e_circles = angle_error(circles);
+        std::printf("%s: sphere angle error %.2f deg (circle patterns, %zu flipped) against %.2f (Tutte-gnomonic)\n",
+                    name.c_str(), e_circles * 180 / M_PI, conformal_flipped, e_tutte * 180 / M_PI);
+        if (!(e_circles < e_tutte)) fail(name, "the conformal sphere map distorts angles more than Tutte-gnomonic");
+    } catch (const uvflat::Error &e) {
+        fail(name, std::string("spherical map failed: ") + e.what());
+    }
+}
+
 /// QuadCover on a closed mesh of at most 10k triangles: the cone indices sum to 4χ quarters
 /// (Hopf–Poincaré), the cancellation only removes cones, and across every edge the two
 /// triangles' (u, v) differ by a quarter turn and an integer translation.
@@ -277,6 +325,7 @@ void check_mesh(const std::string &path, const std::string &out_dir) {
     if (disk_with_holes && info.boundary_loops == 1) check_disk_methods(name, a);
     check_cone_map(name, a, info);
     check_quadcover(name, a, info);
+    check_sphere(name, a, info);
     if (!disk_with_holes) {
         try {
             uvflat::natural_conformal_map(a.positions, a.triangles);
