@@ -40,7 +40,7 @@
 //!      between the old and new positions each determinant is linear, so positive at both ends
 //!      means positive throughout: the map stays a valid embedding at every step (the local
 //!      degree at each vertex cannot jump while no triangle degenerates).
-//!   The result has zero flipped triangles by construction (the count is still measured).
+//!      The result has zero flipped triangles by construction (the count is still measured).
 //! - [`SphereMethod::CirclePatterns`] — the conformal map of Kharevych, Springborn & Schröder
 //!   2006 over the sphere ([`crate::methods::circle_patterns::circle_pattern_sphere_map`]): the
 //!   planar circle pattern of the mesh minus one vertex star, with the link on a convex polygon
