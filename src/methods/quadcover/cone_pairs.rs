@@ -42,20 +42,19 @@
 //!
 //! Pairs (and cone–boundary moves) closer than the cancellation distance are tried nearest
 //! first, each cone's quarters used once, within a radius that grows to the distance in
-//! [`RADIUS_STEPS`] steps. The field is matched again after the correction, so a batch is kept
-//! only when the re-matched field has fewer cones; a batch that does not is bisected (nearer
-//! half first) and a single move that does not is not tried again. The count falls at every
+//! [`RADIUS_STEPS`] steps (PGP's schedule). The field is matched again after the correction,
+//! so a batch is kept only when the re-matched field has fewer cones; a batch that does not is
+//! bisected (nearer half first) and a single move that does not is not tried again. The count falls at every
 //! kept step, so this ends; at most √F trial solves are made. Keeping a batch only when it
 //! removes every cone it was meant to (2 per pair, 1 per boundary move) was measured and not
 //! kept: the bisection then spends the budget on batches where re-matching opened a cone
 //! elsewhere, and man kept 325 cones and 651 folded triangles instead of 128 and 152.
 
+use super::field::{angle_in, basis, centroid, interior_edges, InteriorEdge};
 use crate::error::Result;
-use crate::geometry::{cross, distance, dot, norm, sub};
 use crate::linalg::{lower_from_entries, require_finite, CholeskySolver};
-use crate::mesh::NONE;
-use crate::methods::pgp::frames::{normalized, triangle_normal, wrap_angle};
-use crate::methods::pgp::pairs::Ordered;
+use crate::methods::pgp::frames::{normalized, wrap_angle};
+use crate::methods::pgp::pairs::{Ordered, RADIUS_STEPS};
 use crate::TriMesh;
 use faer::Mat;
 use std::cmp::Reverse;
@@ -67,9 +66,6 @@ pub const DEFAULT_PAIR_CELLS: f64 = 2.0;
 
 /// Screening length L of the correction, in grid cells (module comment).
 pub const SCREENING_CELLS: f64 = 2.0;
-
-/// The pairing radius grows to the cancellation distance in this many steps.
-pub const RADIUS_STEPS: usize = 4;
 
 /// What the cancellation did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -86,16 +82,6 @@ pub struct ConePairReport {
     pub moved_to_boundary: usize,
     /// Trial solves made.
     pub trials: usize,
-}
-
-/// One interior edge: its key half-edge (in triangle f, the twin in g), the transport term c_e
-/// and the weight w_e.
-struct InteriorEdge {
-    key: u32,
-    f: u32,
-    g: u32,
-    transport: f64,
-    weight: f64,
 }
 
 /// The field in angle form and the fixed parts of the indices.
@@ -170,41 +156,10 @@ pub fn cancel_cone_pairs(
     Ok((field, report))
 }
 
-/// The basis (x, y) of triangle t's plane: x along its first edge.
-fn basis(mesh: &TriMesh, t: usize) -> ([f64; 3], [f64; 3]) {
-    let tri = mesh.triangles()[t];
-    let x = normalized(sub(mesh.points()[tri[1] as usize], mesh.points()[tri[0] as usize]));
-    (x, cross(triangle_normal(mesh, t), x))
-}
-
-fn angle_in(v: [f64; 3], b: ([f64; 3], [f64; 3])) -> f64 {
-    dot(v, b.1).atan2(dot(v, b.0))
-}
-
-fn centroid(mesh: &TriMesh, t: usize) -> [f64; 3] {
-    let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
-    std::array::from_fn(|d| (p[0][d] + p[1][d] + p[2][d]) / 3.0)
-}
-
 impl AngleForm {
     fn new(mesh: &TriMesh) -> Self {
-        let twin = &mesh.connectivity().twin;
         let bases: Vec<_> = (0..mesh.triangle_count()).map(|t| basis(mesh, t)).collect();
-        let mut edge_of = vec![NONE; twin.len()];
-        let mut edges = Vec::new();
-        for (h, &g) in twin.iter().enumerate() {
-            if g == NONE || (g as usize) < h {
-                continue;
-            }
-            let (f, t) = (h / 3, g as usize / 3);
-            let e = sub(mesh.points()[mesh.head(h as u32) as usize], mesh.points()[mesh.tail(h as u32) as usize]);
-            let weight = norm(e) / distance(centroid(mesh, f), centroid(mesh, t)).max(1e-300);
-            let transport = -4.0 * (angle_in(e, bases[t]) - angle_in(e, bases[f]));
-            edge_of[h] = edges.len() as u32;
-            edge_of[g as usize] = edges.len() as u32;
-            let weight = if weight.is_finite() { weight } else { 0.0 };
-            edges.push(InteriorEdge { key: h as u32, f: f as u32, g: t as u32, transport, weight });
-        }
+        let (edges, edge_of) = interior_edges(mesh, &bases);
         let angles = mesh.corner_angles();
         let defect = (0..mesh.vertex_count() as u32)
             .map(|v| {
@@ -459,6 +414,8 @@ impl Corrector {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{dot, norm, sub};
+    use crate::methods::pgp::frames::triangle_normal;
     use crate::methods::pgp::singularities::face_field_indices;
 
     /// An n × n grid of unit squares in the plane z = 0.

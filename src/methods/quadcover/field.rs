@@ -40,17 +40,19 @@ use faer::{c64, Mat};
 pub const DEFAULT_ALIGNMENT: f64 = 1.0;
 
 /// The basis (x, y) of triangle t's plane: x along its first edge.
-fn basis(mesh: &TriMesh, t: usize) -> ([f64; 3], [f64; 3]) {
+pub(super) fn basis(mesh: &TriMesh, t: usize) -> ([f64; 3], [f64; 3]) {
     let tri = mesh.triangles()[t];
     let x = normalized(sub(mesh.points()[tri[1] as usize], mesh.points()[tri[0] as usize]));
     (x, cross(triangle_normal(mesh, t), x))
 }
 
-fn angle_in(v: [f64; 3], b: ([f64; 3], [f64; 3])) -> f64 {
+/// Angle of the tangent vector `v` in the basis `b`.
+pub(super) fn angle_in(v: [f64; 3], b: ([f64; 3], [f64; 3])) -> f64 {
     dot(v, b.1).atan2(dot(v, b.0))
 }
 
-fn centroid(mesh: &TriMesh, t: usize) -> [f64; 3] {
+/// Centroid of triangle `t`.
+pub(super) fn centroid(mesh: &TriMesh, t: usize) -> [f64; 3] {
     let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
     std::array::from_fn(|d| (p[0][d] + p[1][d] + p[2][d]) / 3.0)
 }
@@ -75,7 +77,6 @@ pub fn curvature_cross_field(
         ));
     }
     let s = alignment / (spacing * spacing);
-    let twin = &mesh.connectivity().twin;
     let mut builder = TripletBuilder::<c64>::with_capacity(nt, 4 * nt);
     let mut rhs = Mat::<c64>::zeros(nt, 1);
     let geometry = mesh.geometry();
@@ -84,17 +85,9 @@ pub fn curvature_cross_field(
         builder.add(f, f, c64::new(a, 0.0));
         rhs[(f, 0)] = targets[f] * a;
     }
-    for (h, &g) in twin.iter().enumerate() {
-        if g == NONE || (g as usize) < h {
-            continue;
-        }
-        let (f, t) = (h / 3, g as usize / 3);
-        let e = sub(mesh.points()[mesh.head(h as u32) as usize], mesh.points()[mesh.tail(h as u32) as usize]);
-        let w = norm(e) / distance(centroid(mesh, f), centroid(mesh, t)).max(1e-300);
-        if !w.is_finite() {
-            continue;
-        }
-        let r = c64::cis(4.0 * (angle_in(e, bases[t]) - angle_in(e, bases[f])));
+    for e in interior_edges(mesh, &bases).0.iter().filter(|e| e.weight > 0.0) {
+        let (f, t, w) = (e.f as usize, e.g as usize, e.weight);
+        let r = c64::cis(-e.transport);
         builder.add(f, f, c64::new(w, 0.0));
         builder.add(t, t, c64::new(w, 0.0));
         // Entry (t, f) = −w r, entry (f, t) its conjugate; only the lower one is read.
@@ -115,6 +108,38 @@ pub fn curvature_cross_field(
             std::array::from_fn(|d| theta.cos() * x[d] + theta.sin() * y[d])
         })
         .collect())
+}
+
+/// One interior edge: its key half-edge `key` (the one of the lower index, in triangle f; the
+/// twin in g), the transport term c_e = −4 (a_g − a_f) (a_f, a_g the edge's angles in the two
+/// bases; r_e = e^{−i c_e}) and the weight w_e = |e| / |c_f − c_g| (0 where not finite).
+pub(super) struct InteriorEdge {
+    pub key: u32,
+    pub f: u32,
+    pub g: u32,
+    pub transport: f64,
+    pub weight: f64,
+}
+
+/// Every interior edge once, and the edge index of every half-edge (NONE on the boundary).
+pub(super) fn interior_edges(mesh: &TriMesh, bases: &[([f64; 3], [f64; 3])]) -> (Vec<InteriorEdge>, Vec<u32>) {
+    let twin = &mesh.connectivity().twin;
+    let mut edge_of = vec![NONE; twin.len()];
+    let mut edges = Vec::new();
+    for (h, &g) in twin.iter().enumerate() {
+        if g == NONE || (g as usize) < h {
+            continue;
+        }
+        let (f, t) = (h / 3, g as usize / 3);
+        let e = sub(mesh.points()[mesh.head(h as u32) as usize], mesh.points()[mesh.tail(h as u32) as usize]);
+        let weight = norm(e) / distance(centroid(mesh, f), centroid(mesh, t)).max(1e-300);
+        let transport = -4.0 * (angle_in(e, bases[t]) - angle_in(e, bases[f]));
+        edge_of[h] = edges.len() as u32;
+        edge_of[g as usize] = edges.len() as u32;
+        let weight = if weight.is_finite() { weight } else { 0.0 };
+        edges.push(InteriorEdge { key: h as u32, f: f as u32, g: t as u32, transport, weight });
+    }
+    (edges, edge_of)
 }
 
 /// q_f (module comment).
