@@ -832,6 +832,14 @@ typedef struct UvfSphereOptions {
    * Relaxation sweeps (default 100); ignored by the stereographic and circle-pattern methods.
    */
   uint32_t sweeps;
+  /**
+   * Optional progress callback (may be NULL); a non-zero return cancels (`UVF_CANCELLED`).
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
 } UvfSphereOptions;
 
 /**
@@ -2063,7 +2071,8 @@ void uvf_sphere_options_default(struct UvfSphereOptions *options);
  * `det[p0, p1, p2] ≤ 0` (0 for `UVF_SPHERE_TUTTE_GNOMONIC` by construction). `options` may be
  * NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`,
  * `UVF_UNSUPPORTED_TOPOLOGY` (not one closed genus-0 surface), `UVF_NUMERICAL_FAILURE`,
- * `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
+ * `UVF_CANCELLED` (the progress callback returned non-zero), `UVF_INTERNAL_ERROR`. On failure
+ * the outputs are untouched.
  *
  * # Safety
  * The arrays must hold the stated number of elements; `flipped_out` must be writable.

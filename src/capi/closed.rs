@@ -1,10 +1,15 @@
 //! Closed and higher-genus surfaces: cutting a mesh into a disk (result handle with accessors)
 //! and spherical parameterization of closed genus-0 meshes.
 
-use super::{borrow_slice, borrow_slice_mut, checked_count, copy_out, guard, mesh_from_raw, read_options};
+use super::{
+    borrow_slice, borrow_slice_mut, checked_count, copy_out, guard, mesh_from_raw, progress_closure, read_options,
+    UvfProgressFn,
+};
 use crate::error::{Error, Result, UvfStatus};
 use crate::mesh::cut::{cut_to_disk, total_edge_length, Cut, EdgeCost};
-use crate::methods::sphere::{spherical_map, SphereMethod, SphereOptions};
+use crate::methods::sphere::{spherical_map_with_progress, SphereMethod, SphereOptions};
+use crate::progress::Progress;
+use std::os::raw::c_void;
 
 /// Default edge cost: length divided by `1 + 3·θ/π` (θ the dihedral angle).
 pub const UVF_CUT_COST_CURVATURE: u32 = 0;
@@ -249,11 +254,21 @@ pub struct UvfSphereOptions {
     pub method: u32,
     /// Relaxation sweeps (default 100); ignored by the stereographic and circle-pattern methods.
     pub sweeps: u32,
+    /// Optional progress callback (may be NULL); a non-zero return cancels (`UVF_CANCELLED`).
+    pub progress: UvfProgressFn,
+    /// Passed to `progress` unchanged.
+    pub progress_user: *mut c_void,
 }
 
 impl Default for UvfSphereOptions {
     fn default() -> Self {
-        UvfSphereOptions { struct_size: std::mem::size_of::<Self>(), method: UVF_SPHERE_TUTTE_GNOMONIC, sweeps: 100 }
+        UvfSphereOptions {
+            struct_size: std::mem::size_of::<Self>(),
+            method: UVF_SPHERE_TUTTE_GNOMONIC,
+            sweeps: 100,
+            progress: None,
+            progress_user: std::ptr::null_mut(),
+        }
     }
 }
 
@@ -268,7 +283,8 @@ pub unsafe extern "C" fn uvf_sphere_options_default(options: *mut UvfSphereOptio
     }
 }
 
-const SPHERE_OPTIONS_V1: usize = std::mem::size_of::<UvfSphereOptions>();
+/// Size of the first version of `UvfSphereOptions` (without the progress callback).
+const SPHERE_OPTIONS_V1: usize = std::mem::offset_of!(UvfSphereOptions, progress);
 
 /// Spherical parameterization of a closed genus-0 mesh (course notes §6.1): unit-sphere
 /// positions, 3 doubles per vertex in `sphere_out` (`vertex_count` triples; NaN for
@@ -276,7 +292,8 @@ const SPHERE_OPTIONS_V1: usize = std::mem::size_of::<UvfSphereOptions>();
 /// `det[p0, p1, p2] ≤ 0` (0 for `UVF_SPHERE_TUTTE_GNOMONIC` by construction). `options` may be
 /// NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`,
 /// `UVF_UNSUPPORTED_TOPOLOGY` (not one closed genus-0 surface), `UVF_NUMERICAL_FAILURE`,
-/// `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
+/// `UVF_CANCELLED` (the progress callback returned non-zero), `UVF_INTERNAL_ERROR`. On failure
+/// the outputs are untouched.
 ///
 /// # Safety
 /// The arrays must hold the stated number of elements; `flipped_out` must be writable.
@@ -302,7 +319,9 @@ pub unsafe extern "C" fn uvf_spherical_map(
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         let flipped = borrow_slice_mut(flipped_out, 1, "flipped_out")?;
         let out = borrow_slice_mut(sphere_out, checked_count(vertex_count, 3, "sphere")?, "sphere_out")?;
-        let map = spherical_map(&mesh, &SphereOptions { method, sweeps: o.sweeps as usize })?;
+        let mut callback = progress_closure(o.progress, o.progress_user);
+        let options = SphereOptions { method, sweeps: o.sweeps as usize };
+        let map = spherical_map_with_progress(&mesh, &options, &mut Progress::new(&mut callback))?;
         for (d, p) in out.chunks_exact_mut(3).zip(&map.positions) {
             d.copy_from_slice(p);
         }

@@ -56,6 +56,7 @@ use crate::geometry::{cross, dot, norm, norm2, sub};
 use crate::mesh::{TriMesh, NONE};
 use crate::methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions, Weights};
 use crate::methods::circle_patterns::circle_pattern_sphere_map;
+use crate::progress::Progress;
 
 /// Spherical parameterization method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -113,16 +114,28 @@ pub fn require_sphere(mesh: &TriMesh) -> Result<()> {
 
 /// Maps a closed genus-0 mesh onto the unit sphere.
 pub fn spherical_map(mesh: &TriMesh, options: &SphereOptions) -> Result<SphereMap> {
+    spherical_map_with_progress(mesh, options, &mut Progress::none())
+}
+
+/// [`spherical_map`] reporting progress (which can cancel): through the circle-pattern map's
+/// stages, at the start and the end for the other methods.
+pub fn spherical_map_with_progress(
+    mesh: &TriMesh,
+    options: &SphereOptions,
+    progress: &mut Progress,
+) -> Result<SphereMap> {
     require_sphere(mesh)?;
+    progress.report(0.0)?;
     let mut positions = match options.method {
         SphereMethod::GaussSeidel => gauss_seidel(mesh, options.sweeps),
         SphereMethod::Stereographic => stereographic(mesh)?,
         SphereMethod::TutteGnomonic => tutte_gnomonic(mesh, options.sweeps)?,
         SphereMethod::CirclePatterns => {
             let options = crate::methods::circle_patterns::CirclePatternOptions::default();
-            circle_pattern_sphere_map(mesh, &options, &mut crate::progress::Progress::none())?.0
+            circle_pattern_sphere_map(mesh, &options, progress)?.0
         }
     };
+    progress.report(1.0)?;
     orient_outward(mesh, &mut positions);
     let flipped = count_spherical_flips(&positions, mesh.triangles());
     Ok(SphereMap { positions, flipped })

@@ -629,7 +629,7 @@ static void check_closed_surfaces(void) {
     static const uint32_t oct_tris[24] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
     double sphere[18];
     size_t flipped = 99, k;
-    int i, j, t = 0;
+    int i, j, t = 0, calls = 0;
     UvfCut *cut = NULL;
     UvfCutInfo info;
     UvfCutOptions options;
@@ -699,6 +699,19 @@ static void check_closed_surfaces(void) {
         check(fabs(sphere[3 * k] * sphere[3 * k + 3] + sphere[3 * k + 1] * sphere[3 * k + 4] +
                    sphere[3 * k + 2] * sphere[3 * k + 5] + 1.0) < 1e-9,
               "circle-pattern octahedron: opposite vertices antipodal");
+    calls = 0;
+    sphere_options.progress = cancel_first;
+    sphere_options.progress_user = &calls;
+    sphere[0] = 42.0;
+    check(uvf_spherical_map(oct, 6, oct_tris, 8, &sphere_options, sphere, &flipped) == UVF_CANCELLED &&
+              calls == 1 && sphere[0] == 42.0,
+          "sphere map cancelled by its callback, output untouched");
+    sphere_options.progress = NULL;
+    /* A caller built against the first layout (no progress callback) is still accepted. */
+    sphere_options.struct_size = offsetof(UvfSphereOptions, progress);
+    check(uvf_spherical_map(oct, 6, oct_tris, 8, &sphere_options, sphere, &flipped) == UVF_OK,
+          "sphere map: the first options layout is still accepted");
+    sphere_options.struct_size = sizeof sphere_options;
     sphere_options.method = 42;
     check(uvf_spherical_map(oct, 6, oct_tris, 8, &sphere_options, sphere, &flipped) == UVF_INVALID_ARGUMENT,
           "unknown sphere method refused");

@@ -923,6 +923,11 @@ def test_spherical_map_of_a_closed_genus_zero_mesh_is_on_the_unit_sphere_without
     assert np.abs(angles(conformal) - angles(p)).mean() < np.abs(angles(sphere) - angles(p)).mean()
     with pytest.raises(uvflat.InvalidArgument, match="method"):
         uvflat.spherical_map(p, t, method="mercator")
+    fractions = []
+    uvflat.spherical_map(p, t, method="circle_patterns", progress=lambda f: fractions.append(f) or True)
+    assert fractions[0] == 0.0 and fractions[-1] == 1.0 and fractions == sorted(fractions)
+    with pytest.raises(uvflat.Cancelled):
+        uvflat.spherical_map(p, t, method="circle_patterns", progress=lambda f: f < 0.5)
     with pytest.raises(uvflat.UnsupportedTopology):
         uvflat.spherical_map(*load_mesh("closed_g1_bob.obj"))
 

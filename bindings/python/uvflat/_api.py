@@ -1305,7 +1305,12 @@ def abf(
     return uv, _from_struct(AbfReport, report)
 
 
-def spherical_map(positions: ArrayLike, triangles: ArrayLike, method: str = "tutte_gnomonic") -> Tuple[np.ndarray, int]:
+def spherical_map(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    method: str = "tutte_gnomonic",
+    progress: Optional[ProgressCallback] = None,
+) -> Tuple[np.ndarray, int]:
     """Spherical parameterization of a closed genus-0 mesh (``uvf_spherical_map``; course notes
     §6.1): ``tutte_gnomonic`` (flip-free construction, default), ``gauss_seidel``,
     ``stereographic`` (Haker et al. 2000) or ``circle_patterns`` (Kharevych et al. 2006:
@@ -1328,9 +1333,12 @@ def spherical_map(positions: ArrayLike, triangles: ArrayLike, method: str = "tut
         },
         "method",
     )
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
     out = np.empty((len(p), 3), dtype=np.float64)
     flipped = ctypes.c_size_t(0)
-    _check(L.library().uvf_spherical_map(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(out), byref(flipped)))
+    lib = L.library()
+    bridge.run(lambda: lib.uvf_spherical_map(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(out), byref(flipped)))
     return out, int(flipped.value)
 
 

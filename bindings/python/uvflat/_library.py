@@ -486,6 +486,8 @@ class UvfSphereOptions(Structure):
         ("struct_size", c_size_t),
         ("method", c_uint32),
         ("sweeps", c_uint32),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
     ]
 
 
