@@ -260,7 +260,7 @@ fn gauss_seidel(mesh: &TriMesh, sweeps: usize) -> Vec<[f64; 3]> {
 }
 
 /// The mesh without the triangles listed in `removed` (same vertex numbering).
-fn without_triangles(mesh: &TriMesh, removed: impl Fn(usize) -> bool) -> Result<TriMesh> {
+pub(crate) fn without_triangles(mesh: &TriMesh, removed: impl Fn(usize) -> bool) -> Result<TriMesh> {
     let positions: Vec<f64> = mesh.points().iter().flatten().copied().collect();
     let triangles: Vec<u32> =
         mesh.triangles().iter().enumerate().filter(|&(t, _)| !removed(t)).flat_map(|(_, t)| *t).collect();
@@ -276,6 +276,13 @@ fn highest_degree_vertex(mesh: &TriMesh) -> u32 {
         }
     }
     (0..mesh.vertex_count() as u32).max_by_key(|&v| (degree[v as usize], std::cmp::Reverse(v))).unwrap_or(0)
+}
+
+/// Inverse stereographic projection of the plane onto the unit sphere, ∞ at the south pole:
+/// `(x, y) ↦ (2x, 2y, 1 − r²) / (1 + r²)`.
+pub(crate) fn inverse_stereographic(x: f64, y: f64) -> [f64; 3] {
+    let r2 = x * x + y * y;
+    [2.0 * x / (1.0 + r2), 2.0 * y / (1.0 + r2), (1.0 - r2) / (1.0 + r2)]
 }
 
 /// Haker et al. 2000: harmonic map of the mesh minus one triangle, then inverse stereographic
@@ -314,14 +321,8 @@ fn stereographic(mesh: &TriMesh) -> Result<Vec<[f64; 3]>> {
     radii.sort_unstable_by(|a, b| a.total_cmp(b));
     let median = radii[radii.len() / 2];
     let scale = if median > 0.0 { 1.0 / median } else { 1.0 };
-    let mut x: Vec<[f64; 3]> = uv
-        .iter()
-        .map(|p| {
-            let (a, b) = ((p[0] - cu) * scale, (p[1] - cv) * scale);
-            let r2 = a * a + b * b;
-            [2.0 * a / (1.0 + r2), 2.0 * b / (1.0 + r2), (1.0 - r2) / (1.0 + r2)]
-        })
-        .collect();
+    let mut x: Vec<[f64; 3]> =
+        uv.iter().map(|p| inverse_stereographic((p[0] - cu) * scale, (p[1] - cv) * scale)).collect();
     unreferenced_to_nan(mesh, &mut x);
     Ok(x)
 }

@@ -35,6 +35,7 @@
 use super::{circle_pattern_map, CirclePatternOptions, CirclePatternReport};
 use crate::error::{Error, Result};
 use crate::mesh::TriMesh;
+use crate::methods::sphere::{inverse_stereographic, without_triangles};
 use crate::progress::Progress;
 use std::f64::consts::{PI, TAU};
 
@@ -52,10 +53,7 @@ pub fn circle_pattern_sphere_map(
     progress: &mut Progress,
 ) -> Result<(Vec<[f64; 3]>, CirclePatternReport)> {
     let s = pole_vertex(mesh)?;
-    let star = |t: usize| mesh.triangles()[t].contains(&s);
-    let positions: Vec<f64> = mesh.points().iter().flatten().copied().collect();
-    let kept: Vec<u32> = mesh.triangles().iter().enumerate().filter(|&(t, _)| !star(t)).flat_map(|(_, t)| *t).collect();
-    let disk = TriMesh::new(&positions, &kept)?;
+    let disk = without_triangles(mesh, |t| mesh.triangles()[t].contains(&s))?;
     let mut curvature = vec![f64::NAN; mesh.vertex_count()];
     for (a, k) in link_turning_angles(mesh, s) {
         curvature[a as usize] = k;
@@ -133,12 +131,6 @@ fn vertex_areas(mesh: &TriMesh) -> Vec<f64> {
     area
 }
 
-/// Inverse stereographic projection of the plane onto the unit sphere with ∞ at the south pole.
-fn lift(x: f64, y: f64) -> [f64; 3] {
-    let r2 = x * x + y * y;
-    [2.0 * x / (1.0 + r2), 2.0 * y / (1.0 + r2), (1.0 - r2) / (1.0 + r2)]
-}
-
 /// The planar points (NaN where unreferenced), moved by the similarity z ↦ λ (z − c) that puts
 /// the `weights`-weighted centroid of their lifts, the pole vertex at the south pole included,
 /// at the centre of the sphere, and lifted. Fixed-point iteration: a centroid above the equator
@@ -161,7 +153,7 @@ fn balanced_projection(uv: &[[f64; 2]], weights: &[f64], pole: usize) -> Vec<[f6
     for _ in 0..BALANCE_ITERATIONS {
         let mut centroid = [0.0, 0.0, -weights[pole]];
         for &(v, p) in &points {
-            let q = lift(lambda * (p[0] - c[0]), lambda * (p[1] - c[1]));
+            let q = inverse_stereographic(lambda * (p[0] - c[0]), lambda * (p[1] - c[1]));
             for d in 0..3 {
                 centroid[d] += weights[v] * q[d];
             }
@@ -173,7 +165,8 @@ fn balanced_projection(uv: &[[f64; 2]], weights: &[f64], pole: usize) -> Vec<[f6
         lambda *= centroid[2].clamp(-1.0, 1.0).exp();
         c = [c[0] + centroid[0] / lambda, c[1] + centroid[1] / lambda];
     }
-    let mut out: Vec<[f64; 3]> = uv.iter().map(|p| lift(lambda * (p[0] - c[0]), lambda * (p[1] - c[1]))).collect();
+    let mut out: Vec<[f64; 3]> =
+        uv.iter().map(|p| inverse_stereographic(lambda * (p[0] - c[0]), lambda * (p[1] - c[1]))).collect();
     out[pole] = [0.0, 0.0, -1.0];
     out
 }

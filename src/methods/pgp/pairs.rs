@@ -198,7 +198,7 @@ impl Trial<'_> {
 /// Solves allowed in all: [`TRIALS_PER_SQRT_TRIANGLE`] × √F, so that the number of solves
 /// grows more slowly than the mesh (measured: cow 6, armadillo 5, man 115 of 187, cheese 133
 /// of 133).
-fn trial_budget(mesh: &TriMesh) -> usize {
+pub(crate) fn trial_budget(mesh: &TriMesh) -> usize {
     (TRIALS_PER_SQRT_TRIANGLE * (mesh.triangle_count() as f64).sqrt()).ceil() as usize
 }
 

@@ -54,7 +54,7 @@ use super::field::{angle_in, basis, centroid, interior_edges, InteriorEdge};
 use crate::error::Result;
 use crate::linalg::{lower_from_entries, require_finite, CholeskySolver};
 use crate::methods::pgp::frames::{normalized, wrap_angle};
-use crate::methods::pgp::pairs::{Ordered, RADIUS_STEPS};
+use crate::methods::pgp::pairs::{trial_budget, Ordered, RADIUS_STEPS};
 use crate::TriMesh;
 use faer::Mat;
 use std::cmp::Reverse;
@@ -127,7 +127,7 @@ pub fn cancel_cone_pairs(
     let corrector = Corrector::new(mesh, &form, SCREENING_CELLS * spacing)?;
     let trial = Trial { mesh, form: &form, corrector: &corrector };
     let mut blocked = HashSet::new();
-    let total = (mesh.triangle_count() as f64).sqrt().ceil() as usize;
+    let total = trial_budget(mesh);
     let mut budget = total;
     for step in 1..=RADIUS_STEPS {
         let radius = distance * step as f64 / RADIUS_STEPS as f64;
