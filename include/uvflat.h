@@ -1670,6 +1670,12 @@ typedef struct UvfQuadCoverOptions {
    * integration. Fewer clustered cones fold the map less. Must be finite and >= 0.
    */
   double pair_cells;
+  /**
+   * 1 (default): after rounding, untangle the folded triangles by moving the regular
+   * vertices near them (Garanzha et al. 2021's untangling energy), keeping every gap, seam
+   * and cone position; 0: return the rounded and stiffened map as it is. Only with `round`.
+   */
+  uint32_t untangle;
 } UvfQuadCoverOptions;
 
 /**
@@ -1719,6 +1725,16 @@ typedef struct UvfQuadCoverReport {
    * Cone-to-boundary moves the cancellation kept.
    */
   uint32_t cones_moved_to_boundary;
+  /**
+   * Folded triangles before the untangling (`flipped_count` after it; equal when it is off).
+   */
+  uint32_t flipped_before_untangling;
+  /**
+   * Folded triangles that no untangling can open: two of their corners are fixed at the same
+   * point by the integer unknowns (e.g. two cones rounded onto one grid point); 0 when
+   * `untangle` is 0.
+   */
+  uint32_t forced_flat_count;
 } UvfQuadCoverReport;
 
 #ifdef __cplusplus
@@ -2900,7 +2916,8 @@ void uvf_quadcover_options_default(struct UvfQuadCoverOptions *options);
  * the covering's transition functions J^r z + t across the cut (eq. 8.2), the minimizer of
  * ∫|∇f − K|² (eq. 8.6, the Hodge projection of eq. 8.7), then the gaps (and with
  * `cones_on_grid` the cone positions) rounded to integers one at a time (closest first), the
- * map solved again (§8.3.1), and folded triangles stiffened.
+ * map solved again (§8.3.1), folded triangles stiffened, and with `untangle` the folds left
+ * untangled by moving the regular vertices near them (gaps, seams and cones kept).
  *
  * Any genus, with or without boundary, one connected component. `corner_uv_out` receives
  * (u, v) for every corner in grid units: 6 doubles per triangle, corner k of triangle t at

@@ -524,4 +524,12 @@ fn quadcover_writes_per_corner_grid_coordinates_and_its_figures() {
     let bad = uvflat(&[&with_quads[..], &["--quad-density", "1.5"]].concat());
     assert_eq!(bad.status.code(), Some(1), "{}", stderr(&bad));
     assert!(stderr(&bad).contains("density"), "{}", stderr(&bad));
+    // bob folds after rounding; the untangling (default) opens every fold, --no-untangle keeps them.
+    let bob = format!("{MESHES}/closed_g1_bob.obj");
+    let on = json(&uvflat(&["quadcover", &bob, "-o", out.to_str().unwrap(), "--json"]));
+    let off = json(&uvflat(&["quadcover", &bob, "-o", out.to_str().unwrap(), "--json", "--no-untangle"]));
+    assert!(off["flipped"].as_u64().unwrap() > 0 && off["untangled"]["groups"] == 0, "{off}");
+    assert_eq!(on["untangled"]["folded_before"], off["flipped"], "{on}");
+    assert!(on["flipped"].as_u64().unwrap() < off["flipped"].as_u64().unwrap(), "{on}");
+    assert_eq!(on["untangled"]["folded_after"], on["flipped"], "{on}");
 }

@@ -457,6 +457,9 @@ struct QuadCoverOptions {
     /// ± cone pairs of the field closer than this many grid cells are cancelled, cones that
     /// close to the boundary moved onto it; 0 keeps the field's cones.
     double pair_cells = 2;
+    /// Untangle the folds left after rounding (regular vertices move; gaps, seams and cones
+    /// stay).
+    bool untangle = true;
     /// One tangent vector per triangle (3 doubles each); empty: the curvature-aligned field.
     std::vector<double> field;
     std::function<bool(double)> progress;
@@ -482,6 +485,7 @@ inline QuadCoverMap quadcover(const std::vector<double> &positions, const std::v
     o.round = options.round ? 1 : 0;
     o.cones_on_grid = options.cones_on_grid ? 1 : 0;
     o.pair_cells = options.pair_cells;
+    o.untangle = options.untangle ? 1 : 0;
     const std::size_t nv = detail::count_of(positions, 3, "positions");
     const std::size_t nt = detail::count_of(triangles, "triangles");
     if (!options.field.empty() && options.field.size() != 3 * nt) {

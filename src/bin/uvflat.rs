@@ -102,6 +102,9 @@ struct QuadCoverArgs {
     /// close to the boundary onto it (0: keep the field's cones).
     #[arg(long = "pair-cells", default_value_t = uvflat::methods::quadcover::cone_pairs::DEFAULT_PAIR_CELLS)]
     pair_cells: f64,
+    /// Keep the folds the rounding leaves: no untangling of the vertices near them.
+    #[arg(long = "no-untangle")]
+    no_untangle: bool,
     /// Also write an SVG picture of the (u, v) triangles.
     #[arg(long)]
     svg: Option<PathBuf>,
@@ -865,6 +868,7 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
         round: !args.no_round,
         cones_on_grid: args.cones_on_grid,
         pair_cells: args.pair_cells,
+        untangle: !args.no_untangle,
         ..QuadCoverOptions::default()
     };
     let start = Instant::now();
@@ -895,6 +899,11 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
                 "cone_pairs": serde_json::json!({
                     "cones_before": result.cone_pairs.cones_before, "pairs": result.cone_pairs.pairs,
                     "moved_to_boundary": result.cone_pairs.moved_to_boundary, "trials": result.cone_pairs.trials,
+                }),
+                "untangled": serde_json::json!({
+                    "folded_before": result.untangled.folded_before, "folded_after": result.untangled.folded_after,
+                    "groups": result.untangled.groups, "groups_kept": result.untangled.groups_kept,
+                    "forced_flat": result.untangled.forced_flat,
                 }),
                 "flipped": result.flipped, "rounding_offset": result.rounding_offset,
                 "lattice_error": result.lattice_error, "energy_continuous": result.energy_continuous,
@@ -927,6 +936,13 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
             result.flipped,
             100.0 * result.flipped as f64 / mesh.triangle_count().max(1) as f64
         );
+        let u = &result.untangled;
+        if u.folded_before > 0 {
+            println!(
+                "  untangling                  {} -> {} folded ({} of {} groups kept; {} flat whatever the vertices)",
+                u.folded_before, u.folded_after, u.groups_kept, u.groups, u.forced_flat
+            );
+        }
         println!(
             "  field energy (eq. 8.6)      {:.4} continuous, {:.4} with integer gaps (largest gap offset {:.3})",
             result.energy_continuous, result.energy, result.rounding_offset

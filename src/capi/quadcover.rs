@@ -39,6 +39,10 @@ pub struct UvfQuadCoverOptions {
     /// boundary moved onto it, the field re-solved around them, before the cut and the
     /// integration. Fewer clustered cones fold the map less. Must be finite and >= 0.
     pub pair_cells: f64,
+    /// 1 (default): after rounding, untangle the folded triangles by moving the regular
+    /// vertices near them (Garanzha et al. 2021's untangling energy), keeping every gap, seam
+    /// and cone position; 0: return the rounded and stiffened map as it is. Only with `round`.
+    pub untangle: u32,
 }
 
 /// Size of the first version of `UvfQuadCoverOptions` (without `pair_cells`).
@@ -56,6 +60,7 @@ impl Default for UvfQuadCoverOptions {
             progress: None,
             progress_user: std::ptr::null_mut(),
             pair_cells: d.pair_cells,
+            untangle: u32::from(d.untangle),
         }
     }
 }
@@ -87,6 +92,12 @@ pub struct UvfQuadCoverReport {
     pub cancelled_pairs: u32,
     /// Cone-to-boundary moves the cancellation kept.
     pub cones_moved_to_boundary: u32,
+    /// Folded triangles before the untangling (`flipped_count` after it; equal when it is off).
+    pub flipped_before_untangling: u32,
+    /// Folded triangles that no untangling can open: two of their corners are fixed at the same
+    /// point by the integer unknowns (e.g. two cones rounded onto one grid point); 0 when
+    /// `untangle` is 0.
+    pub forced_flat_count: u32,
 }
 
 /// Fills `options` with defaults (automatic grid spacing, alignment 1, rounding on, no callback).
@@ -110,7 +121,8 @@ pub unsafe extern "C" fn uvf_quadcover_options_default(options: *mut UvfQuadCove
 /// the covering's transition functions J^r z + t across the cut (eq. 8.2), the minimizer of
 /// ∫|∇f − K|² (eq. 8.6, the Hodge projection of eq. 8.7), then the gaps (and with
 /// `cones_on_grid` the cone positions) rounded to integers one at a time (closest first), the
-/// map solved again (§8.3.1), and folded triangles stiffened.
+/// map solved again (§8.3.1), folded triangles stiffened, and with `untangle` the folds left
+/// untangled by moving the regular vertices near them (gaps, seams and cones kept).
 ///
 /// Any genus, with or without boundary, one connected component. `corner_uv_out` receives
 /// (u, v) for every corner in grid units: 6 doubles per triangle, corner k of triangle t at
@@ -226,10 +238,10 @@ unsafe fn options_from_c(
             o.grid_spacing
         )));
     }
-    if o.round > 1 || o.cones_on_grid > 1 {
+    if o.round > 1 || o.cones_on_grid > 1 || o.untangle > 1 {
         return Err(Error::InvalidArgument(format!(
-            "round and cones_on_grid must be 0 or 1 (got {} and {})",
-            o.round, o.cones_on_grid
+            "round, cones_on_grid and untangle must be 0 or 1 (got {}, {} and {})",
+            o.round, o.cones_on_grid, o.untangle
         )));
     }
     if !(o.pair_cells.is_finite() && o.pair_cells >= 0.0) {
@@ -248,6 +260,7 @@ unsafe fn options_from_c(
         round: o.round == 1,
         cones_on_grid: o.cones_on_grid == 1,
         pair_cells: o.pair_cells,
+        untangle: o.untangle == 1,
         ..QuadCoverOptions::default()
     };
     Ok((opts, o.progress, o.progress_user))
@@ -272,6 +285,12 @@ unsafe fn write_report(report_out: *mut UvfQuadCoverReport, result: &QuadCoverRe
             cones_before_cancellation: result.cone_pairs.cones_before as u32,
             cancelled_pairs: result.cone_pairs.pairs as u32,
             cones_moved_to_boundary: result.cone_pairs.moved_to_boundary as u32,
+            flipped_before_untangling: if result.untangled == Default::default() {
+                result.flipped as u32
+            } else {
+                result.untangled.folded_before as u32
+            },
+            forced_flat_count: result.untangled.forced_flat as u32,
         });
     }
 }

@@ -15,7 +15,7 @@ UVF_STATIC_ASSERT(sizeof(UvfCutInfo) == 3 * sizeof(size_t) + 2 * sizeof(double),
 UVF_STATIC_ASSERT(offsetof(UvfCurvatureOptions, struct_size) == 0, curvature_size_first);
 UVF_STATIC_ASSERT(offsetof(UvfPgpOptions, struct_size) == 0, pgp_size_first);
 /* 3 + 3 uint32_t, each group padded to 8 bytes, and 5 doubles. */
-UVF_STATIC_ASSERT(sizeof(UvfQuadCoverReport) == 8 * sizeof(uint32_t) + 5 * sizeof(double), quadcover_report_size);
+UVF_STATIC_ASSERT(sizeof(UvfQuadCoverReport) == 10 * sizeof(uint32_t) + 5 * sizeof(double), quadcover_report_size);
 UVF_STATIC_ASSERT(sizeof(UvfPgpInfo) == 4 * sizeof(size_t) + 6 * sizeof(double) + 2 * sizeof(uint32_t), pgp_info_size);
 UVF_STATIC_ASSERT(UVF_OK == 0, ok_is_zero);
 

@@ -490,13 +490,21 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
         static int32_t cone_index[N * N];
         size_t k;
         uvf_quadcover_options_default(&qc);
-        check(qc.struct_size == sizeof qc && qc.grid_spacing == 0.0 && qc.round == 1 && qc.pair_cells == 2.0,
+        check(qc.struct_size == sizeof qc && qc.grid_spacing == 0.0 && qc.round == 1 && qc.pair_cells == 2.0 &&
+                  qc.untangle == 1,
               "quadcover defaults");
         qc.grid_spacing = 0.1;
         check(uvf_quadcover(positions, nv, triangles, nt, &qc, NULL, corner_uv, cone_index, &qc_report) == UVF_OK &&
                   qc_report.lattice_error < 1e-9 && qc_report.grid_spacing == 0.1 && isfinite(qc_report.energy) &&
-                  qc_report.cone_count <= qc_report.cones_before_cancellation,
+                  qc_report.cone_count <= qc_report.cones_before_cancellation &&
+                  qc_report.flipped_count <= qc_report.flipped_before_untangling &&
+                  qc_report.forced_flat_count <= qc_report.flipped_count,
               "quadcover with the curvature field, integer gaps");
+        qc.untangle = 2;
+        check(uvf_quadcover(positions, nv, triangles, nt, &qc, NULL, corner_uv, NULL, NULL) == UVF_INVALID_ARGUMENT &&
+                  strstr(uvf_last_error_message(), "untangle") != NULL,
+              "quadcover: untangle must be 0 or 1");
+        qc.untangle = 1;
         qc.pair_cells = -1.0;
         check(uvf_quadcover(positions, nv, triangles, nt, &qc, NULL, corner_uv, NULL, NULL) == UVF_INVALID_ARGUMENT &&
                   strstr(uvf_last_error_message(), "pair_cells") != NULL,
@@ -505,6 +513,11 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
         qc.struct_size = offsetof(UvfQuadCoverOptions, pair_cells);
         check(uvf_quadcover(positions, nv, triangles, nt, &qc, NULL, corner_uv, NULL, NULL) == UVF_OK,
               "quadcover: the first options layout is still accepted");
+        /* ... and the second (no untangle) too. */
+        qc.struct_size = offsetof(UvfQuadCoverOptions, untangle);
+        qc.pair_cells = 2.0;
+        check(uvf_quadcover(positions, nv, triangles, nt, &qc, NULL, corner_uv, NULL, NULL) == UVF_OK,
+              "quadcover: the second options layout is still accepted");
         qc.struct_size = sizeof qc;
         qc.pair_cells = 2.0;
         for (k = 0; k < 6 * nt; k++)

@@ -1459,6 +1459,26 @@ def test_quadcover_gives_integer_seams_and_cones_and_checks_its_input():
         uvflat.quadcover(p, t, progress=lambda fraction: False)
 
 
+def test_quadcover_untangling_opens_the_folds_and_keeps_the_cones():
+    p, t = load_mesh("closed_g1_bob.obj")
+
+    def folded(uv):
+        a, b, c = uv[:, 0], uv[:, 1], uv[:, 2]
+        return int(np.sum((b - a)[:, 0] * (c - a)[:, 1] - (c - a)[:, 0] * (b - a)[:, 1] <= 0))
+
+    raw_uv, raw_cones, raw = uvflat.quadcover(p, t, untangle=False)
+    uv, cones, report = uvflat.quadcover(p, t)
+    assert raw.flipped_count == folded(raw_uv) > 0 and raw.flipped_before_untangling == raw.flipped_count
+    assert report.flipped_before_untangling == raw.flipped_count
+    assert report.flipped_count == folded(uv) < raw.flipped_count
+    assert report.forced_flat_count <= report.flipped_count
+    # Only regular vertices move: the cones and their corners stay where the rounding put them.
+    assert np.array_equal(cones, raw_cones)
+    at_cones = np.isin(t, np.flatnonzero(cones))
+    assert np.array_equal(uv[at_cones], raw_uv[at_cones])
+    assert report.lattice_error < 1e-9
+
+
 def test_quadcover_quad_mesh_is_a_closed_quad_mesh_with_a_quad_per_grid_cell():
     p, t = load_mesh("closed_g3_triple_torus.obj")
     corner_uv, _, report = uvflat.quadcover(p, t, cones_on_grid=True)

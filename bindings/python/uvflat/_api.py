@@ -992,6 +992,11 @@ class QuadCoverReport:
     cancelled_pairs: int
     #: Cone-to-boundary moves the cancellation kept.
     cones_moved_to_boundary: int
+    #: Folded triangles before the untangling (``flipped_count`` is after it).
+    flipped_before_untangling: int
+    #: Folded triangles no untangling can open (two corners fixed at one grid point by the
+    #: integer unknowns); 0 when ``untangle`` is off.
+    forced_flat_count: int
 
 
 def quadcover(
@@ -1004,6 +1009,7 @@ def quadcover(
     round: bool = True,
     cones_on_grid: bool = False,
     pair_cells: Optional[float] = None,
+    untangle: bool = True,
     progress: Optional[ProgressCallback] = None,
 ) -> Tuple[np.ndarray, np.ndarray, QuadCoverReport]:
     """QuadCover (Kälberer, Nieser & Polthier 2007; course notes ch. 8; ``uvf_quadcover``): a
@@ -1024,6 +1030,8 @@ def quadcover(
             and cones that close to the boundary moved onto it, before the map is computed
             (default 2; 0 keeps the field's cones; not in the paper). Fewer clustered cones fold
             the map less.
+        untangle: after rounding, move the regular vertices near folded triangles to open them,
+            keeping every gap, seam and cone position (default ``True``; not in the paper).
 
     Returns:
         ``(corner_uv, cone_index, report)``: ``(m, 3, 2)`` (u, v) per triangle corner in grid
@@ -1031,7 +1039,7 @@ def quadcover(
         :class:`QuadCoverReport`.
     """
     p, t = _mesh_arrays(positions, triangles)
-    options, f = _quadcover_options(t, field, grid_spacing, alignment, round, cones_on_grid, pair_cells)
+    options, f = _quadcover_options(t, field, grid_spacing, alignment, round, cones_on_grid, pair_cells, untangle)
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     corner_uv = np.empty((len(t), 3, 2), dtype=np.float64)
@@ -1065,6 +1073,7 @@ def quadcover_quad_mesh(
     alignment: Optional[float] = None,
     cones_on_grid: bool = False,
     pair_cells: Optional[float] = None,
+    untangle: bool = True,
     progress: Optional[ProgressCallback] = None,
 ) -> Tuple[np.ndarray, List[np.ndarray], QuadCoverReport]:
     """The integer grid lines of a :func:`quadcover` map as a polygon mesh on the surface
@@ -1080,7 +1089,7 @@ def quadcover_quad_mesh(
         and the :class:`QuadCoverReport` of the map.
     """
     p, t = _mesh_arrays(positions, triangles)
-    options, f = _quadcover_options(t, field, grid_spacing, alignment, True, cones_on_grid, pair_cells)
+    options, f = _quadcover_options(t, field, grid_spacing, alignment, True, cones_on_grid, pair_cells, untangle)
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     report = L.UvfQuadCoverReport()
@@ -1096,7 +1105,7 @@ def quadcover_quad_mesh(
     return quad_positions, faces, _from_struct(QuadCoverReport, report)
 
 
-def _quadcover_options(t, field, grid_spacing, alignment, round, cones_on_grid, pair_cells):
+def _quadcover_options(t, field, grid_spacing, alignment, round, cones_on_grid, pair_cells, untangle):
     """``UvfQuadCoverOptions`` and the checked field array (or None)."""
     options = L.UvfQuadCoverOptions()
     L.library().uvf_quadcover_options_default(byref(options))
@@ -1108,6 +1117,7 @@ def _quadcover_options(t, field, grid_spacing, alignment, round, cones_on_grid, 
         options.alignment = float(alignment)
     options.round = 1 if round else 0
     options.cones_on_grid = 1 if cones_on_grid else 0
+    options.untangle = 1 if untangle else 0
     f = None
     if field is not None:
         f = _as_points(field, 3, "field")

@@ -314,6 +314,7 @@ class UvfQuadCoverOptions(Structure):
         ("progress", UvfProgressFn),
         ("progress_user", c_void_p),
         ("pair_cells", c_double),
+        ("untangle", c_uint32),
     ]
 
 
@@ -332,6 +333,8 @@ class UvfQuadCoverReport(Structure):
         ("cones_before_cancellation", c_uint32),
         ("cancelled_pairs", c_uint32),
         ("cones_moved_to_boundary", c_uint32),
+        ("flipped_before_untangling", c_uint32),
+        ("forced_flat_count", c_uint32),
     ]
 
 

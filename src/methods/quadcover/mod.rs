@@ -7,6 +7,8 @@
 //!   `J^r z + t` across the cut, cones as integer points (§8.2.1 eq. 8.2, §8.3.1);
 //! - [`integration`]: eq. 8.6 minimized (the Hodge projection, eq. 8.7), gaps rounded, solved
 //!   again (§8.3.1);
+//! - [`untangle`]: folds left by the rounding untangled with every lattice unknown kept
+//!   (Garanzha et al. 2021's untangling energy; not in the notes);
 //! - [`remesh`]: the quad-dominant mesh of the integer iso-lines (§8.1: "the integer grid
 //!   lines ... form a quadrilateral mesh").
 //!
@@ -14,13 +16,14 @@
 //! curvature directions smoothed modulo π/2 by [`crate::methods::pgp::smoothing`]) →
 //! matchings → cones (vertices of non-zero cross-field index) → cut graph through the cones
 //! ([`crate::mesh::cut::cut_to_disk_through`]) → combing → covering → continuous solve → gaps
-//! and cone positions rounded → final solve → per-corner (u, v).
+//! and cone positions rounded → final solve, stiffening → untangling → per-corner (u, v).
 //!
 //! What the result guarantees, and tests check: across every interior edge the (u, v) of the
 //! two triangles differ by a grid automorphism `J^r z + t` with t integer (so the iso-lines of
 //! integer u and v close up over the whole surface), and every cone sits at an integer point.
 //! What it does not: the map may fold near cones after rounding (the notes' algorithm
-//! rounds all gaps at once); the count is reported.
+//! rounds all gaps at once); the untangling opens most of those folds that the fixed lattice
+//! allows, and the count left is reported.
 
 pub mod cone_pairs;
 pub mod covering;
@@ -28,6 +31,7 @@ pub mod field;
 pub mod integration;
 pub mod matching;
 pub mod remesh;
+pub mod untangle;
 
 use crate::error::{Error, Result};
 use crate::mesh::cut::{cut_to_disk_through, EdgeCost};
@@ -71,6 +75,9 @@ pub struct QuadCoverOptions {
     /// field closer than this are cancelled and cones closer than this to the boundary moved
     /// onto it. 0 keeps the field's cones as they are.
     pub pair_cells: f64,
+    /// Untangle the folds left after rounding ([`untangle`]): regular vertices near folds move,
+    /// every seam, gap and cone stays. Only with `round`.
+    pub untangle: bool,
 }
 
 impl Default for QuadCoverOptions {
@@ -83,6 +90,7 @@ impl Default for QuadCoverOptions {
             round: true,
             cones_on_grid: false,
             pair_cells: cone_pairs::DEFAULT_PAIR_CELLS,
+            untangle: true,
         }
     }
 }
@@ -119,6 +127,8 @@ pub struct QuadCoverResult {
     pub energy: f64,
     /// What the cone-pair cancellation did.
     pub cone_pairs: cone_pairs::ConePairReport,
+    /// What the untangling did (all zero when it did not run).
+    pub untangled: untangle::UntangleReport,
 }
 
 /// Runs QuadCover (module comment). Errors: bad options or field (naming the triangle),
@@ -149,8 +159,13 @@ pub fn quadcover(mesh: &TriMesh, options: &QuadCoverOptions, progress: &mut Prog
     let cover = covering::build_covering(mesh, &cut, &combed, &cone_list, options.cones_on_grid)?;
     progress.report(0.5)?;
     let scale = 1.0 / spacing;
-    let (continuous, values, rounding_offset) =
-        integration::integrate(mesh, &cut, &frames, scale, &cover, options.round, progress, (0.5, 0.95))?;
+    let (continuous, mut values, rounding_offset) =
+        integration::integrate(mesh, &cut, &frames, scale, &cover, options.round, progress, (0.5, 0.9))?;
+    let untangled = if options.round && options.untangle {
+        untangle::untangle(mesh, &cut, scale, &cover, &mut values)?
+    } else {
+        untangle::UntangleReport::default()
+    };
     let energy_continuous =
         integration::relative_energy(mesh, &frames, scale, &integration::corner_uv(&cut, &cover, &continuous));
     progress.report(0.95)?;
@@ -177,6 +192,7 @@ pub fn quadcover(mesh: &TriMesh, options: &QuadCoverOptions, progress: &mut Prog
         energy_continuous,
         energy,
         cone_pairs: pair_report,
+        untangled,
         uv,
         corner_rotation: cut.triangles.iter().map(|tri| tri.map(|c| cover.copy_rotation[c as usize])).collect(),
     })
