@@ -29,7 +29,7 @@
 use super::ChartMethod;
 use crate::error::{Error, Result};
 use crate::mesh::cut::{cut_to_disk, EdgeCost};
-use crate::mesh::topology::find;
+use crate::mesh::topology::{find, union};
 use crate::mesh::{next, TriMesh, NONE};
 use crate::methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions};
 use crate::methods::conformal::natural_conformal_map;
@@ -312,11 +312,4 @@ fn scale_to_area(disk: &TriMesh, uv: &mut [[f64; 2]]) -> (f64, f64) {
     // σ of the uv → surface map scale by 1/k when the uv layout is scaled by k.
     let stretch = (weighted / area_3d / (k * k)).sqrt();
     (stretch, area_3d)
-}
-
-fn union(parent: &mut [u32], x: u32, y: u32) {
-    let (a, b) = (find(parent, x), find(parent, y));
-    if a != b {
-        parent[a.max(b) as usize] = a.min(b);
-    }
 }

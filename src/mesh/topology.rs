@@ -70,6 +70,14 @@ pub(crate) fn find(parent: &mut [u32], mut x: u32) -> u32 {
     x
 }
 
+/// Joins the trees of `x` and `y` (the smaller root becomes the parent).
+pub(crate) fn union(parent: &mut [u32], x: u32, y: u32) {
+    let (a, b) = (find(parent, x), find(parent, y));
+    if a != b {
+        parent[a.max(b) as usize] = a.min(b);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -28,11 +28,12 @@
 //! with wider rings ([`RINGS`]).
 
 use super::covering::Covering;
-use super::integration::corner_uv;
+use super::integration::{corner_uv, evaluate};
 use crate::error::Result;
 use crate::geometry::{cross, dot, norm, sub};
 use crate::linalg::{CholeskySolver, TripletBuilder};
 use crate::mesh::cut::Cut;
+use crate::mesh::topology::{find, union};
 use crate::metrics::signed_uv_area;
 use crate::TriMesh;
 use faer::{Mat, Side};
@@ -248,10 +249,7 @@ fn forced_flat_triangles(cut: &Cut, covering: &Covering, values: &[f64]) -> usiz
     let nv = covering.vertex_unknowns as u32;
     let fixed_position = |c: u32| -> Option<[f64; 2]> {
         let rows = &covering.rows[c as usize];
-        rows.iter()
-            .flatten()
-            .all(|&(k, _)| k >= nv)
-            .then(|| rows.each_ref().map(|r| super::integration::evaluate(r, values)))
+        rows.iter().flatten().all(|&(k, _)| k >= nv).then(|| rows.each_ref().map(|r| evaluate(r, values)))
     };
     cut.triangles.iter().filter(|tri| two_fixed_corners_coincide(tri.map(fixed_position))).count()
 }
@@ -259,21 +257,6 @@ fn forced_flat_triangles(cut: &Cut, covering: &Covering, values: &[f64]) -> usiz
 /// Every unknown referenced by the corners of triangle `t`.
 fn triangle_unknowns<'a>(cut: &'a Cut, covering: &'a Covering, t: usize) -> impl Iterator<Item = u32> + 'a {
     cut.triangles[t].into_iter().flat_map(move |c| covering.rows[c as usize].iter().flatten().map(|&(k, _)| k))
-}
-
-fn find(parent: &mut [u32], mut k: u32) -> u32 {
-    while parent[k as usize] != k {
-        parent[k as usize] = parent[parent[k as usize] as usize];
-        k = parent[k as usize];
-    }
-    k
-}
-
-fn union(parent: &mut [u32], a: u32, b: u32) {
-    let (ra, rb) = (find(parent, a), find(parent, b));
-    if ra != rb {
-        parent[ra.max(rb) as usize] = ra.min(rb);
-    }
 }
 
 /// The energy term of triangle `t`, its free unknowns numbered by `local`.
