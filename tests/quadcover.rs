@@ -293,7 +293,7 @@ fn cancelling_close_cone_pairs_keeps_the_index_sum_and_folds_fewer_triangles() {
 fn untangling_opens_folds_and_keeps_every_seam_gap_and_cone() {
     println!("| mesh | folded without | folded with | groups kept / tried | flat whatever the vertices | energy without | energy with |");
     println!("|---|--:|--:|--:|--:|--:|--:|");
-    let (mut folded_without, mut folded_with) = (0, 0);
+    let (mut folded_without, mut folded_with, mut forced_flat) = (0, 0, 0);
     for name in &table_meshes() {
         let mesh = load(name);
         let without = run(&mesh, &QuadCoverOptions { untangle: false, ..QuadCoverOptions::default() });
@@ -323,8 +323,12 @@ fn untangling_opens_folds_and_keeps_every_seam_gap_and_cone() {
         }
         folded_without += without.flipped;
         folded_with += with.flipped;
+        forced_flat += u.forced_flat;
     }
-    println!("folded triangles in all: {folded_without} without, {folded_with} with the untangling");
+    println!("folded triangles in all: {folded_without} without, {folded_with} with the untangling, {forced_flat} flat whatever the vertices");
+    // Before the rounding was guarded against two cones of a triangle on one grid point, 150
+    // of the folds left here were such triangles (README, "Untangling").
+    assert!(5 * forced_flat <= 150, "{forced_flat} triangles are flat whatever the vertices");
     assert!(
         10 * folded_with < 7 * folded_without,
         "{folded_with} folded triangles with the untangling, {folded_without} without"

@@ -16,6 +16,7 @@
 //! added to f⁰, is exactly the minimizer of eq. 8.6 under the rounded gaps.
 
 use super::covering::Covering;
+use super::guards::{other_integer, rounding_guards, Guard};
 use crate::error::{Error, Result};
 use crate::geometry::{cross, dot, norm, sub};
 use crate::linalg::{require_finite, CholeskySolver, TripletBuilder};
@@ -132,7 +133,8 @@ fn assemble(
 /// order of Bommes, Zimmer & Kobbelt 2009, "Mixed-integer quadrangulation", §4; the course
 /// notes round all at once, which folds the map where cones are close): with P = S⁻¹, fixing
 /// z_k = a moves the optimum by (a − z_k) P e_k / P_kk and P loses row and column k
-/// (P ← P − P e_k e_kᵀ P / P_kk), O(m²) per step. Then folded triangles are stiffened (vertex
+/// (P ← P − P e_k e_kᵀ P / P_kk), O(m²) per step; where an unknown would put two cones of a
+/// triangle on one grid point, it is rounded the other way ([`super::guards`]). Then folded triangles are stiffened (vertex
 /// positions solved again with their weights raised, [`Problem::stiffen`]) and, while that
 /// leaves folds, the whole problem is solved and rounded again with those weights
 /// ([`REROUNDING_ROUNDS`]).
@@ -271,10 +273,25 @@ impl Problem<'_> {
         if !round || w_continuous.is_empty() {
             return Ok(Solution { continuous, offset, rounded: None });
         }
-        let w = greedy_rounding(w_continuous, p, &covering.free_integer)?;
+        // The nearest-first rounding, and where it puts cones of a triangle on one grid point
+        // the guarded one too ([`super::guards`]); the one expected to fold less after the
+        // untangling is kept ([`expected_folds`]).
+        let guards = rounding_guards(self.cut, covering);
+        let w = greedy_rounding(w_continuous.clone(), p.clone(), &covering.free_integer, &[])?;
         let z = lattice_of(&w);
-        let rounded = real_unknowns(&solver, &blocks, &z)?;
-        Ok(Solution { continuous, offset, rounded: Some((z, rounded)) })
+        let mut rounded = real_unknowns(&solver, &blocks, &z)?;
+        let mut best = (z, expected_folds(self.folded(&rounded).len(), violated(&guards, &w)));
+        if best.1 > 0.0 && violated(&guards, &w) > 0 {
+            let wg = greedy_rounding(w_continuous, p, &covering.free_integer, &guards)?;
+            let zg = lattice_of(&wg);
+            let guarded = real_unknowns(&solver, &blocks, &zg)?;
+            let score = expected_folds(self.folded(&guarded).len(), violated(&guards, &wg));
+            if score < best.1 {
+                best = (zg, score);
+                rounded = guarded;
+            }
+        }
+        Ok(Solution { continuous, offset, rounded: Some((best.0, rounded)) })
     }
 
     /// Triangles whose (u, v) image is not positively oriented.
@@ -325,6 +342,21 @@ impl Problem<'_> {
     }
 }
 
+/// Guards (triangles with two or more fixed corners) that the free lattice scalars `w` violate.
+fn violated(guards: &[Guard], w: &[f64]) -> usize {
+    guards.iter().filter(|g| g.violated(|j| w[j as usize])).count()
+}
+
+/// Share of the folds with a free corner that the untangling opened over the 15 meshes of the
+/// README's table (148 of 187; [`super::untangle`]).
+const UNTANGLED_SHARE: f64 = 0.79;
+
+/// Folds expected after the untangling: the triangles flat whatever the vertices (`flat`, all
+/// of them among `folded`) stay, of the others about a fifth ([`UNTANGLED_SHARE`]).
+fn expected_folds(folded: usize, flat: usize) -> f64 {
+    flat as f64 + (1.0 - UNTANGLED_SHARE) * folded.saturating_sub(flat) as f64
+}
+
 /// Rounds of re-rounding in [`integrate`] at most. Measured on the 15 meshes of the README
 /// table: folded triangles 354 → 337 (spot 14 → 0, bunny 2 → 1, knight 128 → 126; cow and man,
 /// whose folds come from the continuous solve, unchanged), man 4.7 → 8.0 s; without stopping
@@ -371,12 +403,19 @@ const BATCH_ABOVE: usize = 256;
 /// Greedy rounding (see [`integrate`]). Above [`BATCH_ABOVE`] free unknowns, the closest
 /// sixteenth of them is rounded together (block conditioning: z_r += P_rk P_kk⁻¹ (a − z_k),
 /// P_rr ← P_rr − P_rk P_kk⁻¹ P_kr), so that the whole costs O(m³) once rather than per unknown.
-fn greedy_rounding(mut z: Vec<f64>, mut p: Mat<f64>, integer: &[bool]) -> Result<Vec<f64>> {
+fn greedy_rounding(mut z: Vec<f64>, mut p: Mat<f64>, integer: &[bool], guards: &[Guard]) -> Result<Vec<f64>> {
     // p is S⁻¹ restricted to the still free unknowns `free` (in that order); unknowns no
     // triangle sees are 0 already. Real (non-integer) unknowns are only re-optimized.
     let mut free: Vec<usize> = (0..z.len()).filter(|&i| p[(i, i)] > 0.0).collect();
     p = Mat::from_fn(free.len(), free.len(), |i, j| p[(free[i], free[j])]);
     let distance = |x: f64| (x - x.round()).abs();
+    let mut guards_of: Vec<Vec<usize>> = vec![Vec::new(); z.len()];
+    for (g, guard) in guards.iter().enumerate() {
+        for &j in &guard.depends {
+            guards_of[j as usize].push(g);
+        }
+    }
+    let mut rounded = vec![false; z.len()];
     loop {
         let f = free.len();
         let candidates = (0..f).filter(|&a| integer[free[a]]).count();
@@ -393,7 +432,10 @@ fn greedy_rounding(mut z: Vec<f64>, mut p: Mat<f64>, integer: &[bool]) -> Result
                 .then(a.cmp(&b))
         });
         let (chosen, rest) = order.split_at(batch);
-        let delta = Mat::<f64>::from_fn(batch, 1, |i, _| z[free[chosen[i]]].round() - z[free[chosen[i]]]);
+        let chosen_unknowns: Vec<usize> = chosen.iter().map(|&k| free[k]).collect();
+        let variance: Vec<f64> = chosen.iter().map(|&k| p[(k, k)]).collect();
+        let targets = guarded_integers(&z, &chosen_unknowns, &variance, &rounded, guards, &guards_of);
+        let delta = Mat::<f64>::from_fn(batch, 1, |i, _| targets[i] - z[chosen_unknowns[i]]);
         let pkk = Mat::<f64>::from_fn(batch, batch, |i, j| p[(chosen[i], chosen[j])]);
         let prk = Mat::<f64>::from_fn(rest.len(), batch, |i, j| p[(rest[i], chosen[j])]);
         let llt = pkk
@@ -404,14 +446,76 @@ fn greedy_rounding(mut z: Vec<f64>, mut p: Mat<f64>, integer: &[bool]) -> Result
         for (i, &r) in rest.iter().enumerate() {
             z[free[r]] += shift[(i, 0)];
         }
-        for &k in chosen {
-            z[free[k]] = z[free[k]].round();
+        for (&k, &target) in chosen_unknowns.iter().zip(&targets) {
+            z[k] = target;
+            rounded[k] = true;
         }
         let update = &prk * llt.solve(prk.transpose());
         p = Mat::from_fn(rest.len(), rest.len(), |i, j| p[(rest[i], rest[j])] - update[(i, j)]);
         free = rest.iter().map(|&r| free[r]).collect();
     }
     Ok(z)
+}
+
+/// The integers the unknowns `chosen` are rounded to: the nearest, except where they complete
+/// guards ([`super::guards`]) that the nearest integers would flatten or fold. Then, while a
+/// guard is violated, one chosen unknown of it takes its other integer: the flip that leaves
+/// the fewest violated guards and, among those, raises the reduced energy least (fixing z_k at
+/// a raises it by (a − z_k)² / 2P_kk; `variance` holds P_kk); a flip is made only when it
+/// lowers the number of violated guards, so this ends.
+fn guarded_integers(
+    z: &[f64],
+    chosen: &[usize],
+    variance: &[f64],
+    rounded: &[bool],
+    guards: &[Guard],
+    guards_of: &[Vec<usize>],
+) -> Vec<f64> {
+    let mut targets: Vec<f64> = chosen.iter().map(|&k| z[k].round()).collect();
+    let position: std::collections::HashMap<usize, usize> = chosen.iter().enumerate().map(|(i, &k)| (k, i)).collect();
+    let mut touched: Vec<usize> = chosen.iter().flat_map(|&k| guards_of[k].iter().copied()).collect();
+    touched.sort_unstable();
+    touched.dedup();
+    touched.retain(|&g| guards[g].depends.iter().all(|&j| rounded[j as usize] || position.contains_key(&(j as usize))));
+    if touched.is_empty() {
+        return targets;
+    }
+    let violations = |targets: &[f64]| {
+        let value = |j: u32| position.get(&(j as usize)).map_or(z[j as usize], |&i| targets[i]);
+        touched.iter().filter(|&&g| guards[g].violated(value)).count()
+    };
+    // The other choice for unknown i (nearest ↔ second nearest) and what taking it adds to the
+    // reduced energy.
+    let toggled = |i: usize, t: f64| {
+        let x = z[chosen[i]];
+        if t == x.round() {
+            other_integer(x)
+        } else {
+            x.round()
+        }
+    };
+    let cost = |i: usize, from: f64, to: f64| {
+        let x = z[chosen[i]];
+        ((to - x).powi(2) - (from - x).powi(2)) / variance[i]
+    };
+    let mut count = violations(&targets);
+    while count > 0 {
+        let mut best: Option<(usize, f64, usize)> = None;
+        let candidates =
+            touched.iter().flat_map(|&g| guards[g].depends.iter()).filter_map(|&j| position.get(&(j as usize)));
+        for &i in candidates {
+            let mut trial = targets.clone();
+            trial[i] = toggled(i, targets[i]);
+            let key = (violations(&trial), cost(i, targets[i], trial[i]));
+            if key.0 < count && best.is_none_or(|(c, e, _)| key < (c, e)) {
+                best = Some((key.0, key.1, i));
+            }
+        }
+        let Some((c, _, i)) = best else { break };
+        targets[i] = toggled(i, targets[i]);
+        count = c;
+    }
+    targets
 }
 
 /// All unknowns for the integer ones `z`: the real ones solve H_vv y = b_v − H_vz z.
@@ -457,5 +561,30 @@ pub fn relative_energy(mesh: &TriMesh, frames: &[[f64; 3]], scale: f64, uv: &[[[
         misfit / total
     } else {
         0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::methods::quadcover::guards::Guard;
+
+    /// Two fixed corners at (w0, w1) and (w2, w3), independent unknowns of unit variance.
+    fn two_cones_guard() -> Guard {
+        Guard::new(vec![(0, [vec![(0, 1.0)], vec![(1, 1.0)]]), (1, [vec![(2, 1.0)], vec![(3, 1.0)]])])
+    }
+
+    #[test]
+    fn the_guarded_rounding_keeps_two_cones_off_one_grid_point() {
+        let z = vec![0.1, 0.2, 0.3, 0.2];
+        let p = Mat::<f64>::identity(4, 4);
+        let integer = [true; 4];
+        let plain = greedy_rounding(z.clone(), p.clone(), &integer, &[]).unwrap();
+        assert_eq!(plain, vec![0.0; 4], "the nearest integers put both corners on the origin");
+        let guard = two_cones_guard();
+        let guarded = greedy_rounding(z, p, &integer, std::slice::from_ref(&guard)).unwrap();
+        assert!(!guard.violated(|j| guarded[j as usize]));
+        // The last unknown rounded (farthest from its integer, 0.3) takes its other integer.
+        assert_eq!(guarded, vec![0.0, 0.0, 1.0, 0.0]);
     }
 }

@@ -7,6 +7,8 @@
 //!   `J^r z + t` across the cut, cones as integer points (§8.2.1 eq. 8.2, §8.3.1);
 //! - [`integration`]: eq. 8.6 minimized (the Hodge projection, eq. 8.7), gaps rounded, solved
 //!   again (§8.3.1);
+//! - [`guards`]: triangles the integer unknowns alone would flatten or fold, consulted by the
+//!   rounding (not in the notes);
 //! - [`untangle`]: folds left by the rounding untangled with every lattice unknown kept
 //!   (Garanzha et al. 2021's untangling energy; not in the notes);
 //! - [`remesh`]: the quad-dominant mesh of the integer iso-lines (§8.1: "the integer grid
@@ -16,7 +18,8 @@
 //! curvature directions smoothed modulo π/2 by [`crate::methods::pgp::smoothing`]) →
 //! matchings → cones (vertices of non-zero cross-field index) → cut graph through the cones
 //! ([`crate::mesh::cut::cut_to_disk_through`]) → combing → covering → continuous solve → gaps
-//! and cone positions rounded → final solve, stiffening → untangling → per-corner (u, v).
+//! and cone positions rounded (guarded against two cones on one grid point) → final solve,
+//! stiffening → untangling → per-corner (u, v).
 //!
 //! What the result guarantees, and tests check: across every interior edge the (u, v) of the
 //! two triangles differ by a grid automorphism `J^r z + t` with t integer (so the iso-lines of
@@ -28,6 +31,7 @@
 pub mod cone_pairs;
 pub mod covering;
 pub mod field;
+pub mod guards;
 pub mod integration;
 pub mod matching;
 pub mod remesh;
