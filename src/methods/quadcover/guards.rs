@@ -21,10 +21,13 @@
 use super::covering::Covering;
 use crate::mesh::cut::Cut;
 
+/// A fixed corner: its index in the triangle and its u and v rows over the free lattice scalars.
+pub type FixedCorner = (usize, [Vec<(u32, f64)>; 2]);
+
 /// A triangle's fixed corners as rows over the free lattice scalars.
 pub struct Guard {
     /// (corner index in the triangle, its u and v rows over the free lattice scalars).
-    corners: Vec<(usize, [Vec<(u32, f64)>; 2])>,
+    corners: Vec<FixedCorner>,
     /// The free lattice scalars the fixed corners depend on.
     pub depends: Vec<u32>,
 }
@@ -36,7 +39,7 @@ pub fn rounding_guards(cut: &Cut, covering: &Covering) -> Vec<Guard> {
     let nv = covering.vertex_unknowns as u32;
     let mut guards = Vec::new();
     for tri in &cut.triangles {
-        let corners: Vec<(usize, [Vec<(u32, f64)>; 2])> = tri
+        let corners: Vec<FixedCorner> = tri
             .iter()
             .enumerate()
             .filter(|(_, &c)| covering.rows[c as usize].iter().flatten().all(|&(k, _)| k >= nv))
@@ -75,7 +78,7 @@ fn over_free_lattice(covering: &Covering, row: &[(u32, f64)]) -> Vec<(u32, f64)>
 
 impl Guard {
     /// A guard over fixed `corners` (corner index, u and v rows over the free lattice scalars).
-    pub fn new(corners: Vec<(usize, [Vec<(u32, f64)>; 2])>) -> Guard {
+    pub fn new(corners: Vec<FixedCorner>) -> Guard {
         let mut depends: Vec<u32> =
             corners.iter().flat_map(|(_, rows)| rows.iter().flatten().map(|&(j, _)| j)).collect();
         depends.sort_unstable();
