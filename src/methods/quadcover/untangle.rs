@@ -239,7 +239,7 @@ fn groups_around(
 fn two_fixed_corners_coincide(fixed: [Option<[f64; 2]>; 3]) -> bool {
     (0..3).any(|i| {
         let (Some(p), Some(q)) = (fixed[i], fixed[(i + 1) % 3]) else { return false };
-        (p[0] - q[0]).abs() + (p[1] - q[1]).abs() <= 1e-9 * (1.0 + p[0].abs() + p[1].abs())
+        super::guards::same_point(p, q)
     })
 }
 
