@@ -25,12 +25,12 @@
 use super::covering::Covering;
 use crate::mesh::cut::Cut;
 
-/// A fixed corner: its index in the triangle and its u and v rows over the free lattice scalars.
-pub type FixedCorner = (usize, [Vec<(u32, f64)>; 2]);
+/// A fixed corner: its u and v rows over the free lattice scalars.
+pub type FixedCorner = [Vec<(u32, f64)>; 2];
 
 /// A triangle's fixed corners as rows over the free lattice scalars.
 pub struct Guard {
-    /// (corner index in the triangle, its u and v rows over the free lattice scalars).
+    /// The fixed corners in the triangle's order.
     corners: Vec<FixedCorner>,
     /// The free lattice scalars the fixed corners depend on.
     pub depends: Vec<u32>,
@@ -40,27 +40,24 @@ pub struct Guard {
 /// integer unknowns only (a real free unknown is re-optimized continuously and never lands
 /// exactly on another corner).
 pub fn rounding_guards(cut: &Cut, covering: &Covering) -> Vec<Guard> {
+    cut.triangles
+        .iter()
+        .filter_map(|tri| {
+            let corners: Vec<FixedCorner> = tri
+                .iter()
+                .filter(|&&c| is_fixed(covering, c))
+                .map(|&c| covering.rows[c as usize].each_ref().map(|row| over_free_lattice(covering, row)))
+                .collect();
+            (corners.len() >= 2).then(|| Guard::new(corners))
+        })
+        .filter(|guard| guard.depends.iter().all(|&j| covering.free_integer[j as usize]))
+        .collect()
+}
+
+/// Whether the cut-mesh vertex `c` is fixed: its (u, v) rows hold lattice scalars only.
+pub fn is_fixed(covering: &Covering, c: u32) -> bool {
     let nv = covering.vertex_unknowns as u32;
-    let mut guards = Vec::new();
-    for tri in &cut.triangles {
-        let corners: Vec<FixedCorner> = tri
-            .iter()
-            .enumerate()
-            .filter(|(_, &c)| covering.rows[c as usize].iter().flatten().all(|&(k, _)| k >= nv))
-            .map(|(i, &c)| (i, covering.rows[c as usize].each_ref().map(|row| over_free_lattice(covering, row))))
-            .collect();
-        if corners.len() < 2 {
-            continue;
-        }
-        let mut depends: Vec<u32> =
-            corners.iter().flat_map(|(_, rows)| rows.iter().flatten().map(|&(j, _)| j)).collect();
-        depends.sort_unstable();
-        depends.dedup();
-        if depends.iter().all(|&j| covering.free_integer[j as usize]) {
-            guards.push(Guard { corners, depends });
-        }
-    }
-    guards
+    covering.rows[c as usize].iter().flatten().all(|&(k, _)| k >= nv)
 }
 
 /// A row over the real unknowns and lattice scalars (lattice scalars only) rewritten over the
@@ -81,10 +78,9 @@ fn over_free_lattice(covering: &Covering, row: &[(u32, f64)]) -> Vec<(u32, f64)>
 }
 
 impl Guard {
-    /// A guard over fixed `corners` (corner index, u and v rows over the free lattice scalars).
+    /// A guard over the fixed `corners` of a triangle, in its order.
     pub fn new(corners: Vec<FixedCorner>) -> Guard {
-        let mut depends: Vec<u32> =
-            corners.iter().flat_map(|(_, rows)| rows.iter().flatten().map(|&(j, _)| j)).collect();
+        let mut depends: Vec<u32> = corners.iter().flat_map(|rows| rows.iter().flatten().map(|&(j, _)| j)).collect();
         depends.sort_unstable();
         depends.dedup();
         Guard { corners, depends }
@@ -96,7 +92,7 @@ impl Guard {
         let points: Vec<[f64; 2]> = self
             .corners
             .iter()
-            .map(|(_, rows)| rows.each_ref().map(|row| row.iter().map(|&(j, x)| x * w(j)).sum()))
+            .map(|rows| rows.each_ref().map(|row| row.iter().map(|&(j, x)| x * w(j)).sum()))
             .collect();
         let n = points.len();
         if (0..n).any(|i| (i + 1..n).any(|j| same_point(points[i], points[j]))) {
@@ -131,18 +127,14 @@ mod tests {
     #[test]
     fn coincident_fixed_corners_violate_and_distinct_ones_do_not() {
         // Corner 0 at (w0, w1), corner 1 at (w2, w3).
-        let g = Guard::new(vec![(0, [vec![(0, 1.0)], vec![(1, 1.0)]]), (1, [vec![(2, 1.0)], vec![(3, 1.0)]])]);
+        let g = Guard::new(vec![[vec![(0, 1.0)], vec![(1, 1.0)]], [vec![(2, 1.0)], vec![(3, 1.0)]]]);
         assert!(g.violated(|j| [1.0, 2.0, 1.0, 2.0][j as usize]));
         assert!(!g.violated(|j| [1.0, 2.0, 1.0, 3.0][j as usize]));
     }
 
     #[test]
     fn three_fixed_corners_clockwise_violate() {
-        let g = Guard::new(vec![
-            (0, [vec![], vec![]]),
-            (1, [vec![(0, 1.0)], vec![(1, 1.0)]]),
-            (2, [vec![(2, 1.0)], vec![(3, 1.0)]]),
-        ]);
+        let g = Guard::new(vec![[vec![], vec![]], [vec![(0, 1.0)], vec![(1, 1.0)]], [vec![(2, 1.0)], vec![(3, 1.0)]]]);
         assert!(!g.violated(|j| [1.0, 0.0, 0.0, 1.0][j as usize]));
         assert!(g.violated(|j| [0.0, 1.0, 1.0, 0.0][j as usize]));
     }

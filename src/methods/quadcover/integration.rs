@@ -134,8 +134,9 @@ fn assemble(
 /// notes round all at once, which folds the map where cones are close): with P = S⁻¹, fixing
 /// z_k = a moves the optimum by (a − z_k) P e_k / P_kk and P loses row and column k
 /// (P ← P − P e_k e_kᵀ P / P_kk), O(m²) per step; where an unknown would put two cones of a
-/// triangle on one grid point, it is rounded the other way ([`super::guards`]). Then folded triangles are stiffened (vertex
-/// positions solved again with their weights raised, [`Problem::stiffen`]) and, while that
+/// triangle on one grid point, it is rounded the other way ([`super::guards`]). Then folded
+/// triangles are stiffened (vertex positions solved again with their weights raised,
+/// [`Problem::stiffen`]) and, while that
 /// leaves folds, the whole problem is solved and rounded again with those weights
 /// ([`REROUNDING_ROUNDS`]).
 #[allow(clippy::too_many_arguments)]
@@ -149,7 +150,8 @@ pub fn integrate(
     progress: &mut Progress,
     span: (f64, f64),
 ) -> Result<(Vec<f64>, Vec<f64>, f64)> {
-    let problem = Problem { mesh, cut, frames, scale, covering };
+    let guards = rounding_guards(cut, covering);
+    let problem = Problem { mesh, cut, frames, scale, covering, guards };
     let at = |f: f64| span.0 + (span.1 - span.0) * f;
     let first = problem.solve(None, round, progress, (at(0.0), at(0.6)))?;
     let Some((z, rounded)) = first.rounded else {
@@ -201,6 +203,8 @@ struct Problem<'a> {
     frames: &'a [[f64; 3]],
     scale: f64,
     covering: &'a Covering,
+    /// The triangles the rounding alone could flatten ([`super::guards`]).
+    guards: Vec<Guard>,
 }
 
 /// One mixed-integer solve: the continuous minimizer, the largest distance of its integer
@@ -276,16 +280,17 @@ impl Problem<'_> {
         // The nearest-first rounding, and where it puts cones of a triangle on one grid point
         // the guarded one too ([`super::guards`]); the one expected to fold less after the
         // untangling is kept ([`expected_folds`]).
-        let guards = rounding_guards(self.cut, covering);
+        let guards = &self.guards;
         let w = greedy_rounding(w_continuous.clone(), p.clone(), &covering.free_integer, &[])?;
         let z = lattice_of(&w);
         let mut rounded = real_unknowns(&solver, &blocks, &z)?;
-        let mut best = (z, expected_folds(self.folded(&rounded).len(), violated(&guards, &w)));
-        if best.1 > 0.0 && violated(&guards, &w) > 0 {
-            let wg = greedy_rounding(w_continuous, p, &covering.free_integer, &guards)?;
+        let flat = violated(guards, &w);
+        let mut best = (z, expected_folds(self.folded(&rounded).len(), flat));
+        if flat > 0 {
+            let wg = greedy_rounding(w_continuous, p, &covering.free_integer, guards)?;
             let zg = lattice_of(&wg);
             let guarded = real_unknowns(&solver, &blocks, &zg)?;
-            let score = expected_folds(self.folded(&guarded).len(), violated(&guards, &wg));
+            let score = expected_folds(self.folded(&guarded).len(), violated(guards, &wg));
             if score < best.1 {
                 best = (zg, score);
                 rounded = guarded;
@@ -571,7 +576,7 @@ mod tests {
 
     /// Two fixed corners at (w0, w1) and (w2, w3), independent unknowns of unit variance.
     fn two_cones_guard() -> Guard {
-        Guard::new(vec![(0, [vec![(0, 1.0)], vec![(1, 1.0)]]), (1, [vec![(2, 1.0)], vec![(3, 1.0)]])])
+        Guard::new(vec![[vec![(0, 1.0)], vec![(1, 1.0)]], [vec![(2, 1.0)], vec![(3, 1.0)]]])
     }
 
     #[test]

@@ -28,6 +28,7 @@
 //! with wider rings ([`RINGS`]).
 
 use super::covering::Covering;
+use super::guards::is_fixed;
 use super::integration::{corner_uv, evaluate};
 use crate::error::Result;
 use crate::geometry::{cross, dot, norm, sub};
@@ -246,10 +247,8 @@ fn two_fixed_corners_coincide(fixed: [Option<[f64; 2]>; 3]) -> bool {
 /// Triangles of the map that are flat whatever its real unknowns
 /// ([`two_fixed_corners_coincide`]).
 fn forced_flat_triangles(cut: &Cut, covering: &Covering, values: &[f64]) -> usize {
-    let nv = covering.vertex_unknowns as u32;
     let fixed_position = |c: u32| -> Option<[f64; 2]> {
-        let rows = &covering.rows[c as usize];
-        rows.iter().flatten().all(|&(k, _)| k >= nv).then(|| rows.each_ref().map(|r| evaluate(r, values)))
+        is_fixed(covering, c).then(|| covering.rows[c as usize].each_ref().map(|r| evaluate(r, values)))
     };
     cut.triangles.iter().filter(|tri| two_fixed_corners_coincide(tri.map(fixed_position))).count()
 }
