@@ -201,6 +201,71 @@ def cut_open(island: Island, cut_triangles: np.ndarray, cut_positions: np.ndarra
     )
 
 
+#: The library's degeneracy threshold (``DEGENERATE_RELATIVE_AREA`` in ``src/mesh/validate.rs``):
+#: a triangle whose area divided by its longest edge squared is at most this is rejected.
+DEGENERATE_RELATIVE_AREA = 1e-12
+
+
+def relative_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Area of every triangle divided by its longest edge squared (0 where all corners meet)."""
+    p = np.asarray(points, dtype=np.float64)
+    t = np.asarray(triangles, dtype=np.int64)
+    a, b, c = p[t[:, 0]], p[t[:, 1]], p[t[:, 2]]
+    longest = np.maximum(np.maximum(((b - a) ** 2).sum(axis=1), ((c - a) ** 2).sum(axis=1)), ((c - b) ** 2).sum(axis=1))
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    return np.where(longest > 0, area / np.where(longest > 0, longest, 1.0), 0.0)
+
+
+def without_degenerate(island: Island) -> Island:
+    """The island without its zero-area triangles (two vertices snapped together but not
+    merged, collinear corners), which the library refuses: they leave slits of zero area, free
+    boundaries of the solve, and their loops still get the UVs of their vertices. The island
+    is returned unchanged when it has none, or when a vertex would be left in no triangle."""
+    keep = ~(relative_areas(island.positions, island.triangles) <= DEGENERATE_RELATIVE_AREA)
+    if keep.all() or not keep.any():
+        return island
+    if len(np.unique(island.triangles[keep])) < len(island.positions):
+        return island
+    return dataclasses.replace(
+        island,
+        triangles=np.ascontiguousarray(island.triangles[keep]),
+        triangle_loops=island.triangle_loops[keep],
+        triangle_diagonals=island.triangle_diagonals[keep],
+    )
+
+
+def fill_holes(
+    positions: np.ndarray, triangles: np.ndarray, loops: List[np.ndarray]
+) -> Tuple[np.ndarray, np.ndarray]:
+    """Blender's "Fill Holes" for free-boundary solves: every boundary loop but the longest
+    (in 3D) is closed by a cone of triangles around a virtual vertex appended after the
+    island's vertices, so a tube or a holed patch is solved as a disk instead of being free to
+    fold onto itself. The apex sits at the loop's centroid, moved along the loop's (Newell)
+    normal by half its mean radius so that no cone triangle is flat; loops that enclose no
+    area (the slits of :func:`without_degenerate`) stay open. ``loops`` run with the surface
+    on their left (``uvflat.boundary_loops``)."""
+    p = np.asarray(positions, dtype=np.float64)
+    if len(loops) < 2:
+        return p, triangles
+    lengths = [float(np.linalg.norm(p[np.roll(lp, -1)] - p[lp], axis=1).sum()) for lp in loops]
+    outer = int(np.argmax(lengths))
+    points, tris = [p], [np.asarray(triangles, dtype=np.int64)]
+    apex = len(p)
+    for k, lp in enumerate(loops):
+        lp = np.asarray(lp, dtype=np.int64)
+        ring = p[lp]
+        centroid = ring.mean(axis=0)
+        normal = np.cross(ring - centroid, np.roll(ring, -1, axis=0) - centroid).sum(axis=0)
+        radius = float(np.linalg.norm(ring - centroid, axis=1).mean())
+        if k == outer or not np.linalg.norm(normal) > 1e-6 * radius * radius:
+            continue
+        points.append((centroid - 0.5 * radius * normal / np.linalg.norm(normal))[None, :])
+        # Boundary half-edges a -> b have the surface on their left; the cone holds b -> a.
+        tris.append(np.stack([np.roll(lp, -1), lp, np.full(len(lp), apex)], axis=1))
+        apex += 1
+    return np.concatenate(points), np.ascontiguousarray(np.concatenate(tris), dtype=np.uint32)
+
+
 def triangle_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     """Unsigned areas of triangles of 2D or 3D points."""
     p = np.asarray(points, dtype=np.float64)

@@ -60,15 +60,19 @@ METHODS = [
     ),
     ("INTRINSIC", "Intrinsic (λ, μ)", "λ·discrete conformal + μ·discrete authalic weights, fixed boundary (Desbrun et al. 2002)"),
     ("MEAN_VALUE", "Mean Value", "Floater's mean value coordinates, boundary fixed on a circle or square; never flips"),
-    ("SLIM", "SLIM (symmetric Dirichlet)", "Isometric free-boundary map minimised by SLIM (Rabinovich et al. 2017); never flips"),
-    ("STRETCH", "Minimum Stretch", "Sander et al. 2001 L2 stretch, free boundary; never flips"),
-    ("ARAP", "As Rigid As Possible", "Liu et al. 2008 local/global ARAP, free boundary; never flips"),
+    ("SLIM", "SLIM (symmetric Dirichlet)", "Isometric free-boundary map minimised by SLIM (Rabinovich et al. 2017); never flips (unless pins beyond two pull their neighbours)"),
+    ("STRETCH", "Minimum Stretch", "Sander et al. 2001 L2 stretch, free boundary; never flips (unless pins beyond two pull their neighbours)"),
+    ("ARAP", "As Rigid As Possible", "Liu et al. 2008 local/global ARAP, free boundary; never flips (unless pins beyond two pull their neighbours)"),
     ("TUTTE", "Tutte", "Uniform weights, fixed convex boundary; never flips"),
     ("FLOATER", "Floater", "Floater's shape-preserving weights, fixed convex boundary; never flips"),
     ("AUTHALIC", "Authalic", "Discrete authalic (Wachspress) weights, fixed boundary"),
     ("CONFORMAL", "Conformal (fixed)", "Discrete conformal (harmonic, cotangent) weights, fixed boundary"),
 ]
 _NONLINEAR = {"SLIM": "slim", "STRETCH": "stretch", "ARAP": "arap"}
+#: Methods whose holes are filled first when Fill Holes is on (the others either fix the
+#: boundary and fill holes in the library, or do not fold a tube: SLIM, stretch, ARAP start
+#: from a fixed-boundary map and never flip a triangle).
+_FREE_BOUNDARY = {"NATURAL_CONFORMAL", "ABF_PLUS_PLUS"}
 _FIXED_WEIGHTS = {
     "MEAN_VALUE": "mean_value",
     "INTRINSIC": "intrinsic",
@@ -161,7 +165,11 @@ class UnwrapRun:
         layer_name = me.uv_layers.active.name
         n_loops, n_polys = len(me.loops), len(me.polygons)
         me.calc_loop_triangles()
-        positions = _get(me.vertices, "co", np.float32, len(me.vertices), 3).astype(np.float64)
+        # The shape the user edits: the active shape key's (Edit Mode shows and edits that one,
+        # and Blender's own unwrap reads it), the mesh's vertices without shape keys.
+        key = obj.active_shape_key
+        source = key.data if key is not None and len(key.data) == len(me.vertices) else me.vertices
+        positions = _get(source, "co", np.float32, len(me.vertices), 3).astype(np.float64)
         selected = _get(me.polygons, "select", bool, n_polys) & ~_get(me.polygons, "hide", bool, n_polys)
         split = isl.split_islands(
             positions,
@@ -218,6 +226,7 @@ class UnwrapRun:
 
     def _solve_job(self, index: int, job: _Job, progress: Callable[[float], bool]) -> None:
         uvflat = self.uvflat
+        job = self.jobs[index] = _Job(job.obj_index, isl.without_degenerate(job.island), job.pin_vertices, job.pin_uv)
         problem = self._problem(job.island)
         if problem is not None and problem[0] in ("closed", "not_disk") and self.settings["cut_closed"]:
             cut = self._cut(job.island)
@@ -276,9 +285,28 @@ class UnwrapRun:
         return opened
 
     def _solve(self, job: _Job, progress: Callable[[float], bool]) -> Tuple[np.ndarray, int]:
-        """UVs of the island's vertices, and how many pins were not enforced."""
+        """UVs of the island's vertices, and how many pins were not enforced. The solve works
+        in square UV space: pinned UVs are taken out of the image's aspect ratio first and the
+        result is put back into it (as the free islands' layout does)."""
+        aspect = self.meshes[job.obj_index][5]
+        square = _Job(job.obj_index, job.island, job.pin_vertices, to_square(job.pin_uv, aspect))
+        uv, unenforced = self._solve_square(square, progress)
+        return (from_square(uv, aspect) if len(job.pin_vertices) else uv), unenforced
+
+    def _solve_square(self, job: _Job, progress: Callable[[float], bool]) -> Tuple[np.ndarray, int]:
         uvflat, method = self.uvflat, self.settings["method"]
         p, t = job.island.positions, job.island.triangles
+        if method in _FREE_BOUNDARY and self.settings.get("fill_holes", True):
+            # Virtual cones over the holes (Blender's Fill Holes): without them a tube's
+            # free-boundary conformal map is pressed flat, its two layers folded at the sides.
+            p, t = isl.fill_holes(p, t, uvflat.boundary_loops(p, t))
+        uv, unenforced = self._solve_method(job, p, t, progress)
+        return uv[: len(job.island.positions)], unenforced
+
+    def _solve_method(
+        self, job: _Job, p: np.ndarray, t: np.ndarray, progress: Callable[[float], bool]
+    ) -> Tuple[np.ndarray, int]:
+        uvflat, method = self.uvflat, self.settings["method"]
         pins, pin_uv = job.pin_vertices, job.pin_uv
         pair = _farthest_pin_pair(pins, pin_uv)
         if method == "NATURAL_CONFORMAL":
@@ -314,7 +342,9 @@ class UnwrapRun:
                 kwargs.update(lambda_=self.settings["lambda"], mu=self.settings["mu"])
             uv = uvflat.fixed_boundary_map(p, t, progress=progress, **kwargs)
         if len(pins):
-            uv = _fit_to_pins(uv, job)
+            # A similarity fits two pins exactly; further ones keep their UVs unenforced.
+            uv[: len(job.island.positions)] = _fit_to_pins(uv[: len(job.island.positions)], job)
+            return uv, max(len(pins) - 2, 0)
         return uv, 0
 
     # --- write back (main thread) --------------------------------------------------------------
@@ -333,12 +363,7 @@ class UnwrapRun:
         for job in free:
             island = job.island
             area_3d = float(isl.triangle_areas(island.positions, island.triangles).sum())
-            uv = isl.scale_to_area(job.uv, island.triangles, area_3d)
-            aspect = self.meshes[job.obj_index][5]
-            if aspect > 1:
-                uv[:, 0] /= aspect
-            elif aspect < 1:
-                uv[:, 1] *= aspect
+            uv = from_square(isl.scale_to_area(job.uv, island.triangles, area_3d), self.meshes[job.obj_index][5])
             uv -= uv.min(axis=0)
             job.uv = uv
             sizes.append(uv.max(axis=0))
@@ -397,7 +422,8 @@ class UnwrapRun:
         if self.unenforced_pins:
             warnings.append(
                 f"{self.unenforced_pins} pinned vertices kept in place but not enforced in the solve "
-                "(conflicting pins, or more than two with ABF++: the two farthest apart constrain it)"
+                "(conflicting pins, or more than two with a method other than Natural Conformal: the two farthest "
+                "apart place the island)"
             )
         return warnings
 
@@ -420,6 +446,26 @@ class UnwrapRun:
             ],
             "island_faces": [(j.obj_index, j.island.polys.copy()) for j in solved],
         }
+
+
+def to_square(uv: np.ndarray, aspect: float) -> np.ndarray:
+    """UVs of an image of width/height ``aspect`` in square space (undoes :func:`from_square`)."""
+    uv = np.array(uv, dtype=np.float64).reshape(-1, 2)
+    if aspect > 1:
+        uv[:, 0] *= aspect
+    elif aspect < 1:
+        uv[:, 1] /= aspect
+    return uv
+
+
+def from_square(uv: np.ndarray, aspect: float) -> np.ndarray:
+    """Square-space UVs squeezed into an image of width/height ``aspect`` (Correct Aspect)."""
+    uv = np.array(uv, dtype=np.float64).reshape(-1, 2)
+    if aspect > 1:
+        uv[:, 0] /= aspect
+    elif aspect < 1:
+        uv[:, 1] *= aspect
+    return uv
 
 
 def _uv_layer(me: Any, name: str) -> Any:
@@ -475,6 +521,12 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
         description="Circle Patterns: keep each island's UV boundary convex, so the island cannot overlap "
         "itself (more distortion where its boundary is concave)",
     )
+    fill_holes: BoolProperty(  # type: ignore[valid-type]
+        name="Fill Holes",
+        default=True,
+        description="Natural Conformal and ABF++: virtually fill every hole of an island but its longest boundary "
+        "before unwrapping, so tubes and holed patches do not fold onto themselves (as Blender's Fill Holes)",
+    )
     cut_closed: BoolProperty(  # type: ignore[valid-type]
         name="Cut Closed Islands",
         default=True,
@@ -506,6 +558,8 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
             layout.prop(self, "iterations")
         if self.method == "CIRCLE_PATTERNS":
             layout.prop(self, "convex_boundary")
+        if self.method in _FREE_BOUNDARY:
+            layout.prop(self, "fill_holes")
         layout.prop(self, "cut_closed")
         layout.prop(self, "correct_aspect")
         layout.prop(self, "pack")
@@ -574,10 +628,22 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
         except Exception as e:  # LibraryError, ImportError: nothing to do without the library
             self.report({"ERROR"}, f"uvflat: cannot load the library: {e}")
             return None
+        problem = self._invalid_setting()
+        if problem is not None:
+            self.report({"ERROR"}, f"uvflat: {problem}")
+            return None
         objects = [o for o in getattr(context, "objects_in_mode_unique_data", [context.edit_object]) if o.type == "MESH"]
         LAST_RUN.clear()
         bpy.ops.object.mode_set(mode="OBJECT")
         return UnwrapRun(uvflat, self.settings(), objects, self.correct_aspect)
+
+    def _invalid_setting(self) -> Optional[str]:
+        """What is wrong with the settings a script can set beyond the panel's limits, or None."""
+        if self.method == "INTRINSIC" and not self.lambda_ + self.mu > 0:
+            return "λ and μ cannot both be 0 (the Intrinsic weights would all vanish)"
+        if not 0 <= self.margin <= 1:
+            return f"margin must be between 0 and 1 (got {self.margin})"
+        return None
 
     def _finish(self, context: bpy.types.Context, run: "UnwrapRun") -> set:
         """Lays out and writes back the solved islands, goes back to Edit Mode, packs, reports."""
@@ -613,6 +679,7 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
             "iterations": self.iterations,
             "cut_closed": self.cut_closed,
             "convex_boundary": self.convex_boundary,
+            "fill_holes": self.fill_holes,
         }
 
     def _pack(self, objects: List[bpy.types.Object], summary: Dict[str, Any]) -> None:
