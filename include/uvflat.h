@@ -598,7 +598,9 @@ typedef struct UvfAtlasOptions {
    */
   double max_stretch;
   /**
-   * Gap between charts in the unit square, in [0, 0.5) (default 0.005).
+   * Gap between charts in the unit square, in [0, 0.5) (default 0.005); refused with
+   * `UVF_INVALID_ARGUMENT` when the gaps alone would take more than a quarter of the square
+   * (charts · margin² > 0.25).
    */
   double margin;
   /**
@@ -2734,8 +2736,8 @@ void uvf_pgp_free(struct UvfPgp *pgp);
  * number ≥ 1; quad sides are about 2π / (ω · density) long) as a polygon mesh whose
  * vertices lie on the input surface; faces that are not quads are split into quads and at
  * most one triangle. Returns `UVF_OK` (a handle in `*mesh_out`, free it with
- * `uvf_quad_mesh_free`) or `UVF_INVALID_ARGUMENT` (NULL handle or output, bad density;
- * `*mesh_out` untouched).
+ * `uvf_quad_mesh_free`) or `UVF_INVALID_ARGUMENT` (NULL handle or output, bad density, or a
+ * density whose line graph would not fit in the memory available; `*mesh_out` untouched).
  *
  * # Safety
  * `pgp` must be a live handle or NULL; `mesh_out` must be NULL or writable.
@@ -2829,7 +2831,8 @@ void uvf_chart_layout_free(struct UvfChartLayout *layout);
  * singularities are re-parameterized by mean-value coordinates, N-sided ones split into N
  * quads; the (u, v) of two charts agree along their common side. Returns `UVF_OK` (a handle
  * in `*charts_out`, free it with `uvf_pgp_charts_free`) or `UVF_INVALID_ARGUMENT` (NULL handle
- * or output, bad density; `*charts_out` untouched).
+ * or output, bad density, or one whose line graph would not fit in the memory available;
+ * `*charts_out` untouched).
  *
  * # Safety
  * `pgp` must be a live handle or NULL; `charts_out` must be NULL or writable.

@@ -119,7 +119,10 @@ fn given_boundary(mesh: &TriMesh, given: &[(u32, [f64; 2])]) -> Result<FixedBoun
         if !(p[0].is_finite() && p[1].is_finite()) {
             return Err(Error::InvalidArgument(format!("boundary vertex {v} was given a non-finite position")));
         }
-        uv[v as usize] = Some(p);
+        if uv[v as usize].replace(p).is_some() {
+            // (The last position would silently win, as a conflicting one did before.)
+            return Err(Error::InvalidArgument(format!("boundary vertex {v} is given twice")));
+        }
     }
     let mut loop_fixed = Vec::new();
     for lp in mesh.boundary_loops() {

@@ -17,7 +17,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use uvflat::atlas::{atlas, cut_and_flatten, Atlas, AtlasOptions, CUT_MAX_STRETCH};
+use uvflat::atlas::{atlas, cut_and_flatten, Atlas, AtlasOptions, ChartMethod, CUT_MAX_STRETCH};
 use uvflat::io::obj::{read_obj, write_obj_with_corner_uv};
 use uvflat::metrics::distortion;
 use uvflat::TriMesh;
@@ -344,5 +344,34 @@ fn options_out_of_range_are_refused() {
         AtlasOptions { margin: -0.1, ..AtlasOptions::default() },
     ] {
         assert!(matches!(atlas(&mesh, &options), Err(uvflat::Error::InvalidArgument(_))), "{options:?}");
+    }
+}
+
+#[test]
+fn a_margin_the_charts_cannot_all_have_is_refused_before_packing() {
+    // 422 charts at margin 0.05 used to come back at a utilization of 1e-6 (charts shrunk to
+    // nothing), and margin 0.3 on the knight ran for minutes in the raster packing.
+    let mesh = load("closed_g0_decimated_knight.obj");
+    let charts = atlas(&mesh, &AtlasOptions::default()).unwrap().charts.len();
+    let margin = 0.6 / (charts as f64).sqrt();
+    match atlas(&mesh, &AtlasOptions { margin, ..AtlasOptions::default() }) {
+        Err(uvflat::Error::InvalidArgument(m)) => assert!(m.contains("too large"), "{m}"),
+        other => panic!("margin {margin} for {charts} charts: {:?}", other.map(|a| a.charts.len())),
+    }
+}
+
+#[test]
+fn every_chart_method_and_the_isometric_bound_give_an_atlas() {
+    // A triangle alone always has an isometric layout: a method that puts its corners
+    // elsewhere (mean value: on a circle) or rounds a few ulps over max_stretch = 1 no longer
+    // fails the whole atlas.
+    let mesh = load("closed_g0_decimated_knight.obj");
+    for options in [
+        AtlasOptions { method: ChartMethod::MeanValue, ..AtlasOptions::default() },
+        AtlasOptions { max_stretch: 1.0, ..AtlasOptions::default() },
+    ] {
+        let result = atlas(&mesh, &options).unwrap_or_else(|e| panic!("{options:?}: {e}"));
+        assert_eq!(flipped(&result), 0, "{options:?}");
+        assert!(result.charts.iter().all(|c| c.stretch_l2 <= options.max_stretch * (1.0 + 1e-9)), "{options:?}");
     }
 }

@@ -730,7 +730,7 @@ fn class_bad_given_boundary() -> Messages {
         [0.5 + 0.5 * t.cos(), 0.5 + 0.5 * t.sin()]
     };
     let whole: Vec<f64> = (0..12).flat_map(on_circle).collect();
-    let cases: [(&'static str, Vec<u32>, Vec<f64>, &str); 5] = [
+    let cases: [(&'static str, Vec<u32>, Vec<f64>, &str); 6] = [
         (
             "given vertex not on the boundary",
             [outer.clone(), vec![5]].concat(),
@@ -756,6 +756,12 @@ fn class_bad_given_boundary() -> Messages {
             "boundary vertex 0 was given a non-finite position",
         ),
         ("no given positions", Vec::new(), Vec::new(), "no boundary positions were given"),
+        (
+            "given vertex twice",
+            [outer.clone(), vec![0]].concat(),
+            [whole.clone(), vec![5.0, 5.0]].concat(),
+            "boundary vertex 0 is given twice",
+        ),
     ];
     for (class, vertices, uv, needle) in cases {
         let options = UvfFixedBoundaryOptions {

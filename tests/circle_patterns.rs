@@ -565,3 +565,19 @@ fn holes_are_filled_so_that_each_hole_turns_once_the_other_way() {
     }
     assert!(tested >= 8, "{tested} meshes with holes");
 }
+
+#[test]
+fn a_cone_curvature_that_is_not_finite_is_refused() {
+    // An octahedron: the NaN would otherwise read as "no cone here" and the map would go on.
+    let p = [1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0];
+    let t = [0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5];
+    let mesh = TriMesh::new(&p, &t).unwrap();
+    for bad in [f64::NAN, f64::INFINITY] {
+        let cones = [(0, bad), (1, std::f64::consts::PI)];
+        match circle_pattern_cone_map(&mesh, &cones, &CirclePatternOptions::default(), &mut Progress::none()) {
+            Err(Error::InvalidArgument(m)) => assert!(m.contains("not finite"), "{m}"),
+            Err(e) => panic!("{bad}: expected InvalidArgument, got {e}"),
+            Ok(_) => panic!("{bad}: a non-finite cone was accepted"),
+        }
+    }
+}

@@ -521,8 +521,9 @@ fn quadcover_writes_per_corner_grid_coordinates_and_its_figures() {
     assert!(std::fs::read_to_string(&quad_svg).expect("svg").contains("<svg"));
     let bad = uvflat(&["quadcover", &mesh, "-o", out.to_str().unwrap(), "--quad-svg", quad_svg.to_str().unwrap()]);
     assert_eq!(bad.status.code(), Some(2), "{}", stderr(&bad));
+    // Checked up front, as pgp does, before any output is written.
     let bad = uvflat(&[&with_quads[..], &["--quad-density", "1.5"]].concat());
-    assert_eq!(bad.status.code(), Some(1), "{}", stderr(&bad));
+    assert_eq!(bad.status.code(), Some(2), "{}", stderr(&bad));
     assert!(stderr(&bad).contains("density"), "{}", stderr(&bad));
     // bob folds after rounding; the untangling (default) opens every fold, --no-untangle keeps them.
     let bob = format!("{MESHES}/closed_g1_bob.obj");
@@ -532,4 +533,54 @@ fn quadcover_writes_per_corner_grid_coordinates_and_its_figures() {
     assert_eq!(on["untangled"]["folded_before"], off["flipped"], "{on}");
     assert!(on["flipped"].as_u64().unwrap() < off["flipped"].as_u64().unwrap(), "{on}");
     assert_eq!(on["untangled"]["folded_after"], on["flipped"], "{on}");
+}
+
+#[test]
+fn outputs_that_cannot_all_be_written_are_refused_before_any_file_is() {
+    let out = scratch("refused.obj");
+    std::fs::remove_file(&out).ok();
+    let missing_dir = scratch("no-such-dir").join("x.svg");
+    let bob = format!("{MESHES}/closed_g1_bob.obj");
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (vec!["unwrap".into(), SAMPLE.into(), "--svg".into(), out.display().to_string()], "name the same file"),
+        (vec!["unwrap".into(), SAMPLE.into(), "--svg".into(), missing_dir.display().to_string()], "does not exist"),
+        (vec!["unwrap".into(), SAMPLE.into(), "--svg".into(), scratch("").display().to_string()], "is a directory"),
+        (
+            vec![
+                "quadcover".into(),
+                bob.clone(),
+                "--quad-mesh".into(),
+                scratch("q.obj").display().to_string(),
+                "--quad-density".into(),
+                "0".into(),
+            ],
+            "--quad-density",
+        ),
+        (vec!["pgp".into(), bob, "--quad-mesh".into(), missing_dir.display().to_string()], "does not exist"),
+    ];
+    for (mut args, expected) in cases {
+        args.splice(2..2, ["-o".to_string(), out.display().to_string()]);
+        let o = uvflat(&args.iter().map(String::as_str).collect::<Vec<_>>());
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(expected), "{args:?}: {}", stderr(&o));
+        assert!(!out.exists(), "{args:?} wrote {}", out.display());
+    }
+}
+
+#[test]
+fn options_that_do_not_apply_to_the_atlas_are_refused() {
+    for extra in [["--cone", "0:0"], ["--mu", "0.5"], ["--energy", "edge"]] {
+        let out = scratch("atlas-refused.obj");
+        let o = uvflat(&["unwrap", SAMPLE, "-o", out.to_str().unwrap(), "--atlas", extra[0], extra[1]]);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(extra[0]) && stderr(&o).contains("--atlas"), "{}", stderr(&o));
+    }
+}
+
+#[test]
+fn a_full_standard_output_is_an_error_not_a_panic() {
+    let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else { return };
+    let o = Command::new(env!("CARGO_BIN_EXE_uvflat")).arg("methods").stdout(full).output().expect("run uvflat");
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("failed printing to stdout") && !stderr(&o).contains("panicked"), "{}", stderr(&o));
 }

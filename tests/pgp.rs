@@ -178,6 +178,7 @@ fn smoothing_keeps_the_principal_directions_where_the_surface_is_anisotropic() {
 // Periodic solve, extraction, singularities (§2–3)
 
 use uvflat::methods::pgp::density::MAX_DENSITY;
+use uvflat::methods::pgp::isolines::{check_graph_fits, PeriodicMap};
 use uvflat::methods::pgp::periodic::rotate_unknowns;
 use uvflat::methods::pgp::quality::quality;
 use uvflat::methods::pgp::singularities::signed_area2;
@@ -454,6 +455,23 @@ fn remesh_density_must_be_a_whole_number() {
         let e = quad_dominant_remesh(&mesh, &r, bad).unwrap_err();
         assert!(e.to_string().contains("density"), "{bad}: {e}");
     }
+}
+
+#[test]
+fn a_remesh_that_would_not_fit_in_memory_is_refused() {
+    // Before this check, --quad-density 4096 on the 500-triangle bob was killed by the
+    // system for want of memory (24 GB) instead of returning an error.
+    let mesh = mesh_of(&surfaces::torus(3.0, 1.0, 48, 16));
+    let r = pgp(&mesh, &PgpOptions::default(), &mut Progress::none()).unwrap();
+    let map = PeriodicMap::of_pgp(&r);
+    let at_8 = quad_dominant_remesh(&mesh, &r, 8.0).unwrap().face_sizes.len() as f64;
+    // The estimate is the remesh's own size: enough memory for 2× its faces is enough, half is not.
+    assert!(check_graph_fits(&map, 8, Some(2.0 * 640.0 * at_8)).is_ok());
+    let e = check_graph_fits(&map, 8, Some(0.5 * 640.0 * at_8)).unwrap_err();
+    assert!(e.to_string().contains("GB of memory"), "{e}");
+    assert!(check_graph_fits(&map, 1 << 20, None).is_ok());
+    let e = quad_dominant_remesh(&mesh, &r, 1e8).unwrap_err();
+    assert!(e.to_string().contains("memory"), "{e}");
 }
 
 /// Iso-lines per period of the remesh checked on the closed meshes (quad sides of 10 / 8 mean

@@ -141,8 +141,10 @@ fn the_integer_grid_lines_form_a_manifold_quad_mesh_on_the_surface() {
                 check_remesh(name, mesh, &finer);
             } else if 100 * result.flipped < mesh.triangle_count() && closed {
                 // The lines cannot follow a feature narrower than a cell: cow's legs at the
-                // default spacing (3 mean edges) leave 84% of its area covered.
-                assert!(report.quad_fraction >= 0.9 && report.area_ratio >= 0.8, "{name}: {report:?}");
+                // default spacing (3 mean edges) leave 83% of its area covered, 78.5% with the
+                // cones on the grid (84.5% before the doublets were merged: their two faces
+                // overlapped and were counted twice).
+                assert!(report.quad_fraction >= 0.9 && report.area_ratio >= 0.75, "{name}: {report:?}");
             }
         }
     }

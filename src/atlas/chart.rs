@@ -139,6 +139,9 @@ pub struct ChartSettings {
 /// few iterations, so charts far over the bound are split at once instead.
 const POLISH_GATE: f64 = 6.0;
 
+/// Relative round-off allowed on the stretch bound (a few ulps of the stretch's sums).
+const STRETCH_ROUND_OFF: f64 = 1e-12;
+
 /// Builds, flattens and checks the chart of `faces` (sorted). `Ok(Err(refusal))` when the
 /// flattening is not valid under `settings.max_stretch`. A valid flattening over the bound but
 /// within `POLISH_GATE` is polished (L2 stretch minimized) and judged again.
@@ -164,10 +167,36 @@ pub fn flatten_chart(
             (uv, stretch, polished) = (better, s, true);
         }
     }
-    if !(stretch <= settings.max_stretch) {
+    // The bound is met up to round-off: one triangle laid out exactly has a stretch of 1 ± a
+    // few ulps, and `max_stretch = 1` (isometric) must accept it.
+    if !(stretch <= settings.max_stretch * (1.0 + STRETCH_ROUND_OFF)) {
         return Ok(Err(Refusal::Stretch(stretch)));
     }
     Ok(Ok(FlatChart { faces, corners: disk.triangles().to_vec(), original, uv, stretch_l2: stretch, area, polished }))
+}
+
+/// Triangle `t` alone, laid out isometrically (its first edge along u, counter-clockwise):
+/// every triangle has such a flattening, whatever the method would make of it (the mean value
+/// map puts its corners on a circle, for instance). None for a degenerate triangle.
+pub fn exact_triangle_chart(mesh: &TriMesh, t: u32) -> Option<FlatChart> {
+    use crate::geometry::{cross, dot, norm, sub};
+    let tri = mesh.triangles()[t as usize];
+    let [a, b, c] = tri.map(|v| mesh.points()[v as usize]);
+    let (ab, ac) = (sub(b, a), sub(c, a));
+    let (len, twice_area) = (norm(ab), norm(cross(ab, ac)));
+    if !(len > 0.0 && twice_area > 0.0) {
+        return None;
+    }
+    let uv = vec![[0.0, 0.0], [len, 0.0], [dot(ab, ac) / len, twice_area / len]];
+    Some(FlatChart {
+        faces: vec![t],
+        corners: vec![[0, 1, 2]],
+        original: tri.to_vec(),
+        uv,
+        stretch_l2: 1.0,
+        area: 0.5 * twice_area,
+        polished: true,
+    })
 }
 
 /// The chart polished: its L2 stretch minimized from its current map (see [`polish`]); the

@@ -481,6 +481,12 @@ fn exit_quietly_on_broken_pipe() {
         if message.contains("Broken pipe") {
             std::process::exit(141);
         }
+        // println! panics when stdout cannot be written (a full disk, /dev/full): an error,
+        // not a crash.
+        if message.starts_with("failed printing to stdout") {
+            eprintln!("uvflat: {message}");
+            std::process::exit(1);
+        }
         default(info);
     }));
 }
@@ -528,6 +534,7 @@ fn load_mesh(path: &Path) -> Result<(ObjMesh, TriMesh), Failure> {
 
 fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
     check_option_combination(args)?;
+    check_outputs(&[("-o", Some(&args.output)), ("--svg", args.svg.as_deref())])?;
     if args.atlas {
         return unwrap_atlas(args);
     }
@@ -713,8 +720,25 @@ fn unwrap_atlas(args: &UnwrapArgs) -> Result<(), Failure> {
     if args.cut == Some(CutMode::None) {
         return Err(usage("--atlas cuts the mesh into charts; it cannot be combined with --cut none"));
     }
-    if args.boundary.is_some() || args.distribution.is_some() || !args.pins.is_empty() || args.lambda.is_some() {
-        return Err(usage("--boundary, --distribution, --pin, --lambda and --mu do not apply to --atlas"));
+    let inapplicable = [
+        ("--boundary", args.boundary.is_some()),
+        ("--distribution", args.distribution.is_some()),
+        ("--pin", !args.pins.is_empty()),
+        ("--lambda", args.lambda.is_some()),
+        ("--mu", args.mu.is_some()),
+        ("--theta", args.theta.is_some()),
+        ("--energy", args.energy.is_some()),
+        ("--no-intrinsic-delaunay", args.no_intrinsic_delaunay),
+        ("--corner", !args.corners.is_empty()),
+        ("--convex-boundary", args.convex_boundary),
+        ("--cone", !args.cones.is_empty()),
+        ("--auto-cones", args.auto_cones),
+        ("--max-cones", args.max_cones.is_some()),
+        ("--max-log-scale", args.max_log_scale.is_some()),
+    ];
+    let given: Vec<&str> = inapplicable.iter().filter(|(_, set)| *set).map(|(flag, _)| *flag).collect();
+    if !given.is_empty() {
+        return Err(usage(format!("{} do(es) not apply to --atlas", given.join(", "))));
     }
     let method = match args.method() {
         MethodName::NaturalConformal => ChartMethod::NaturalConformal,
@@ -821,6 +845,7 @@ fn atlas_seam_length(mesh: &TriMesh, atlas: &Atlas) -> f64 {
 }
 
 fn sphere(args: &SphereArgs) -> Result<(), Failure> {
+    check_outputs(&[("-o", Some(&args.output))])?;
     let (obj, mesh) = load_mesh(&args.input)?;
     let method = match args.method {
         SphereMethodName::TutteGnomonic => SphereMethod::TutteGnomonic,
@@ -860,6 +885,15 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
     if args.quad_svg.is_some() && args.quad_mesh.is_none() {
         return Err(usage("--quad-svg needs --quad-mesh"));
     }
+    if !(args.quad_density >= 1.0 && args.quad_density.fract() == 0.0) {
+        return Err(usage(format!("--quad-density must be a whole number >= 1 (got {})", args.quad_density)));
+    }
+    check_outputs(&[
+        ("-o", Some(&args.output)),
+        ("--svg", args.svg.as_deref()),
+        ("--quad-mesh", args.quad_mesh.as_deref()),
+        ("--quad-svg", args.quad_svg.as_deref()),
+    ])?;
     let obj = read_obj(&args.input)?;
     let mesh = TriMesh::new(&obj.positions, &obj.triangles)?;
     let options = QuadCoverOptions {
@@ -963,6 +997,35 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Refuses, before any work, output files that could not all be written or would overwrite
+/// one another: two options naming one file, a path that is a directory, a directory that does
+/// not exist. (Writing the main OBJ and then failing on a side output left a partial result.)
+fn check_outputs(outputs: &[(&str, Option<&Path>)]) -> Result<(), Failure> {
+    let given: Vec<(&str, &Path)> = outputs.iter().filter_map(|&(flag, path)| path.map(|p| (flag, p))).collect();
+    for (i, &(flag, path)) in given.iter().enumerate() {
+        if path.is_dir() {
+            return Err(usage(format!("{flag} {} is a directory", path.display())));
+        }
+        let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        if !parent.is_dir() {
+            return Err(usage(format!("{flag} {}: the directory {} does not exist", path.display(), parent.display())));
+        }
+        if let Some(&(other, _)) = given[..i].iter().find(|&&(_, q)| same_file(path, q)) {
+            return Err(usage(format!("{other} and {flag} name the same file {}", path.display())));
+        }
+    }
+    Ok(())
+}
+
+/// Whether two output paths name the same file (their directories resolved).
+fn same_file(a: &Path, b: &Path) -> bool {
+    let resolved = |p: &Path| {
+        let parent = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        Some(parent.canonicalize().ok()?.join(p.file_name()?))
+    };
+    a == b || matches!((resolved(a), resolved(b)), (Some(x), Some(y)) if x == y)
+}
+
 /// Writes a polygon mesh to an OBJ (and its picture to an SVG); returns its face, quad and
 /// vertex counts.
 fn write_quad_mesh(remesh: &PolygonMesh, path: &Path, svg: Option<&Path>) -> Result<(usize, usize, usize), Failure> {
@@ -1002,6 +1065,13 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
     if !(args.chart_density >= 1.0 && args.chart_density.fract() == 0.0) {
         return Err(usage(format!("--chart-density must be a whole number >= 1 (got {})", args.chart_density)));
     }
+    check_outputs(&[
+        ("-o", Some(&args.output)),
+        ("--svg", args.svg.as_deref()),
+        ("--quad-mesh", args.quad_mesh.as_deref()),
+        ("--quad-svg", args.quad_svg.as_deref()),
+        ("--charts", args.charts.as_deref()),
+    ])?;
     let symmetry = match args.smooth {
         SmoothName::None => None,
         SmoothName::TwoPi => Some(Symmetry::Vector),

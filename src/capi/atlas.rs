@@ -25,7 +25,9 @@ pub struct UvfAtlasOptions {
     /// Largest L2 stretch of a chart, ≥ 1 (default 1.004); `INFINITY` splits only charts that
     /// flip or overlap.
     pub max_stretch: f64,
-    /// Gap between charts in the unit square, in [0, 0.5) (default 0.005).
+    /// Gap between charts in the unit square, in [0, 0.5) (default 0.005); refused with
+    /// `UVF_INVALID_ARGUMENT` when the gaps alone would take more than a quarter of the square
+    /// (charts · margin² > 0.25).
     pub margin: f64,
     /// One of `UVF_ATLAS_CHART_*` (default natural conformal).
     pub method: u32,

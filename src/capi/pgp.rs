@@ -573,8 +573,8 @@ pub struct UvfChartLayoutInfo {
 /// number ≥ 1; quad sides are about 2π / (ω · density) long) as a polygon mesh whose
 /// vertices lie on the input surface; faces that are not quads are split into quads and at
 /// most one triangle. Returns `UVF_OK` (a handle in `*mesh_out`, free it with
-/// `uvf_quad_mesh_free`) or `UVF_INVALID_ARGUMENT` (NULL handle or output, bad density;
-/// `*mesh_out` untouched).
+/// `uvf_quad_mesh_free`) or `UVF_INVALID_ARGUMENT` (NULL handle or output, bad density, or a
+/// density whose line graph would not fit in the memory available; `*mesh_out` untouched).
 ///
 /// # Safety
 /// `pgp` must be a live handle or NULL; `mesh_out` must be NULL or writable.
@@ -793,7 +793,8 @@ pub struct UvfPgpChartsInfo {
 /// singularities are re-parameterized by mean-value coordinates, N-sided ones split into N
 /// quads; the (u, v) of two charts agree along their common side. Returns `UVF_OK` (a handle
 /// in `*charts_out`, free it with `uvf_pgp_charts_free`) or `UVF_INVALID_ARGUMENT` (NULL handle
-/// or output, bad density; `*charts_out` untouched).
+/// or output, bad density, or one whose line graph would not fit in the memory available;
+/// `*charts_out` untouched).
 ///
 /// # Safety
 /// `pgp` must be a live handle or NULL; `charts_out` must be NULL or writable.

@@ -2,7 +2,9 @@
 //!
 //! Reading keeps the file's numbering: vertex i is the i-th `v` line and uv i the i-th `vt` line
 //! (0-based), whether or not a face uses them, across all `o`/`g` groups (OBJ indices are
-//! global). Faces are fan-triangulated: (c0, c1, c2), (c0, c2, c3), …; indices may be negative
+//! global). Faces are fan-triangulated: (c0, c1, c2), (c0, c2, c3), …, except a polygon whose
+//! fan would hold a flat triangle or one turned against the polygon (concave, or collinear
+//! corners), which is cut by ear clipping in its plane instead; indices may be negative
 //! (relative) and may refer to `v` lines further down. Only `v x y z`, `vt u [v]` and `f` are
 //! interpreted; `vn`, `l`, `p`, groups, materials and comments are skipped. Coordinates are read
 //! as f64 exactly as written (`nan`/`inf` included; validating them is the mesh's job).
@@ -114,9 +116,14 @@ struct ObjParser {
     forward: Vec<ForwardReference>,
     first_face_with_uv: Option<usize>,
     first_face_without_uv: Option<usize>,
+    /// Faces of more than three corners: their first triangle and their corners (positions may
+    /// come later in the file, so their fans are checked at the end).
+    polygons: Vec<(usize, Vec<u32>)>,
 }
 
 fn parse_obj(text: &str) -> Result<ObjMesh, String> {
+    // A UTF-8 byte-order mark (Windows editors write one) is not part of the first line.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut parser = ObjParser::default();
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
@@ -193,6 +200,9 @@ impl ObjParser {
         if !uvs.is_empty() {
             self.first_face_with_uv = self.first_face_with_uv.or(Some(line));
         }
+        if corners.len() > 3 {
+            self.polygons.push((self.mesh.triangles.len() / 3, vertices.clone()));
+        }
         for k in 1..corners.len() - 1 {
             self.mesh.triangles.extend([vertices[0], vertices[k], vertices[k + 1]]);
             if uvs.len() == corners.len() {
@@ -221,7 +231,7 @@ impl ObjParser {
         Ok(narrow)
     }
 
-    fn finish(self) -> Result<ObjMesh, String> {
+    fn finish(mut self) -> Result<ObjMesh, String> {
         let vertex_count = self.mesh.positions.len() / 3;
         let uv_count = self.mesh.uv.len() / 2;
         for f in &self.forward {
@@ -244,8 +254,91 @@ impl ObjParser {
         if u32::try_from(vertex_count).is_err() || u32::try_from(uv_count).is_err() {
             return Err("more than 2^32 vertices or texture coordinates".into());
         }
+        for (first, vertices) in std::mem::take(&mut self.polygons) {
+            self.retriangulate_if_fan_folds(first, &vertices);
+        }
         Ok(self.mesh)
     }
+
+    /// Replaces the fan of a polygon (triangles `first`.. of the mesh) by an ear-clipping
+    /// triangulation when a fan triangle is flat or turns against the polygon (a concave
+    /// polygon seen from a corner that does not see all others; collinear corners): the fan
+    /// would then overlap itself or hold a degenerate triangle. Convex polygons keep their fan.
+    fn retriangulate_if_fan_folds(&mut self, first: usize, vertices: &[u32]) {
+        let point = |v: u32| {
+            let i = 3 * v as usize;
+            [self.mesh.positions[i], self.mesh.positions[i + 1], self.mesh.positions[i + 2]]
+        };
+        let ring: Vec<[f64; 3]> = vertices.iter().map(|&v| point(v)).collect();
+        let normal = newell_normal(&ring);
+        if (1..ring.len() - 1).all(|k| turn(&ring, normal, [0, k, k + 1]) > 0.0) {
+            return;
+        }
+        let Some(order) = ear_clipping(&ring, normal) else { return };
+        let corner_uvs = (!self.mesh.uv_triangles.is_empty()).then(|| {
+            let t = &self.mesh.uv_triangles[3 * first..3 * (first + ring.len() - 2)];
+            // The fan's corners: c0 in every triangle, then c1, c2, … in order.
+            let mut uvs = vec![t[0], t[1]];
+            uvs.extend(t.chunks(3).map(|c| c[2]));
+            uvs
+        });
+        for (k, tri) in order.iter().enumerate() {
+            let at = 3 * (first + k);
+            self.mesh.triangles[at..at + 3].copy_from_slice(&tri.map(|c| vertices[c]));
+            if let Some(uvs) = &corner_uvs {
+                self.mesh.uv_triangles[at..at + 3].copy_from_slice(&tri.map(|c| uvs[c]));
+            }
+        }
+    }
+}
+
+/// Twice the area of triangle `tri` of `ring` projected on the plane of `normal` (times
+/// |normal|): positive when it turns the polygon's way.
+fn turn(ring: &[[f64; 3]], normal: [f64; 3], tri: [usize; 3]) -> f64 {
+    use crate::geometry::{cross, dot, sub};
+    let [a, b, c] = tri.map(|k| ring[k]);
+    dot(cross(sub(b, a), sub(c, a)), normal)
+}
+
+/// The polygon's Newell normal (twice its vector area).
+fn newell_normal(ring: &[[f64; 3]]) -> [f64; 3] {
+    let mut n = [0.0; 3];
+    for k in 0..ring.len() {
+        let (p, q) = (ring[k], ring[(k + 1) % ring.len()]);
+        n[0] += (p[1] - q[1]) * (p[2] + q[2]);
+        n[1] += (p[2] - q[2]) * (p[0] + q[0]);
+        n[2] += (p[0] - q[0]) * (p[1] + q[1]);
+    }
+    n
+}
+
+/// Ear clipping of a simple polygon in the plane of its Newell `normal` (O(n²) per ear): an
+/// ear is a corner that turns the polygon's way with no other corner inside or on its
+/// triangle. None when some step finds no ear (a self-intersecting polygon, or all corners
+/// collinear): the caller keeps the fan.
+fn ear_clipping(ring: &[[f64; 3]], normal: [f64; 3]) -> Option<Vec<[usize; 3]>> {
+    let mut left: Vec<usize> = (0..ring.len()).collect();
+    let mut out = Vec::with_capacity(ring.len() - 2);
+    while left.len() > 3 {
+        let m = left.len();
+        let ear = (0..m).find(|&i| {
+            let tri = [left[(i + m - 1) % m], left[i], left[(i + 1) % m]];
+            turn(ring, normal, tri) > 0.0
+                && left.iter().filter(|v| !tri.contains(v)).all(|&v| !inside_or_on(ring, normal, tri, v))
+        })?;
+        out.push([left[(ear + m - 1) % m], left[ear], left[(ear + 1) % m]]);
+        left.remove(ear);
+    }
+    let last = [left[0], left[1], left[2]];
+    (turn(ring, normal, last) > 0.0).then(|| {
+        out.push(last);
+        out
+    })
+}
+
+/// Whether corner `v` of `ring` lies inside or on triangle `tri` (in the plane of `normal`).
+fn inside_or_on(ring: &[[f64; 3]], normal: [f64; 3], tri: [usize; 3], v: usize) -> bool {
+    (0..3).all(|k| turn(ring, normal, [tri[k], tri[(k + 1) % 3], v]) >= 0.0)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -369,6 +462,51 @@ mod tests {
         assert_eq!(mesh.triangles, triangles);
         assert_eq!(mesh.uv, [0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.1, 0.7]);
         assert_eq!(mesh.uv_triangles, triangles);
+    }
+
+    /// Twice the signed area of every triangle of `mesh` in the xy-plane.
+    fn xy_areas(mesh: &ObjMesh) -> Vec<f64> {
+        let p = |v: u32| [mesh.positions[3 * v as usize], mesh.positions[3 * v as usize + 1]];
+        (mesh.triangles.chunks(3))
+            .map(|t| {
+                let [a, b, c] = [p(t[0]), p(t[1]), p(t[2])];
+                (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_concave_polygon_is_cut_into_triangles_inside_it() {
+        // A notched rectangle (area 6): the fan from corner 1 would cover the notch at corner 5
+        // twice and leave out the rest.
+        let text =
+            "v 0 0 0\nv 4 0 0\nv 4 2 0\nv 0 2 0\nv 2 1 0\nf 1 2 3 4 5\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n";
+        let mesh = parse_obj(text).unwrap();
+        assert_ne!(mesh.triangles, [0, 1, 2, 0, 2, 3, 0, 3, 4], "the fan was kept");
+        let areas = xy_areas(&mesh);
+        assert_eq!(areas.len(), 3);
+        assert!(areas.iter().all(|&a| a > 0.0), "{areas:?}");
+        assert!((areas.iter().sum::<f64>() - 2.0 * 6.0).abs() < 1e-12, "{areas:?}");
+        let with_uv = parse_obj(&text.replace("f 1 2 3 4 5", "f 1/1 2/2 3/3 4/4 5/5")).unwrap();
+        assert_eq!(with_uv.triangles, mesh.triangles);
+        assert_eq!(with_uv.uv_triangles, mesh.triangles, "each corner keeps its own vt");
+    }
+
+    #[test]
+    fn collinear_corners_of_a_convex_polygon_make_no_flat_triangle() {
+        // A pentagon with corners 1, 2, 3 on one line: the fan from corner 1 has (1, 2, 3) flat.
+        let text = "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nf 1 2 3 4 5\n";
+        let areas = xy_areas(&parse_obj(text).unwrap());
+        assert!(areas.iter().all(|&a| a > 0.0), "{areas:?}");
+        assert!((areas.iter().sum::<f64>() - 8.0).abs() < 1e-12, "{areas:?}");
+    }
+
+    #[test]
+    fn a_byte_order_mark_does_not_hide_the_first_vertex() {
+        let text = "\u{feff}v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        let mesh = parse_obj(text).unwrap();
+        assert_eq!(mesh.positions, [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
+        assert_eq!(mesh.triangles, [0, 1, 2]);
     }
 
     #[test]

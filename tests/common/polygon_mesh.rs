@@ -21,7 +21,7 @@ pub struct RemeshReport {
 
 /// Asserts that `remesh` is an oriented manifold polygon mesh (every edge in at most two
 /// faces, once each way, and in two when the input is closed; one fan of faces around every
-/// vertex; no repeated corner) and measures it.
+/// vertex; no repeated corner; no doublet vertex) and measures it.
 pub fn check_remesh(file: &str, mesh: &TriMesh, remesh: &PolygonMesh) -> RemeshReport {
     let closed = mesh.boundary_loops().is_empty();
     let n = remesh.positions.len();
@@ -45,6 +45,10 @@ pub fn check_remesh(file: &str, mesh: &TriMesh, remesh: &PolygonMesh) -> RemeshR
     for (v, w) in wedges.iter().enumerate() {
         assert!(!w.is_empty(), "{file}: vertex {v} in no face");
         assert_eq!(fans(w), 1, "{file}: vertex {v} has {} fans (non-manifold)", fans(w));
+        // A doublet: two faces sharing both edges of a vertex fold onto each other there, and
+        // fan-triangulating readers (uvflat's own) get one triangle twice.
+        let doublet = w.len() == 2 && w[0] == (w[1].1, w[1].0);
+        assert!(!doublet, "{file}: vertex {v} is a doublet (two faces sharing both its edges)");
     }
     RemeshReport {
         quad_fraction: remesh.quad_count() as f64 / remesh.face_sizes.len() as f64,

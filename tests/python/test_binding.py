@@ -1522,3 +1522,52 @@ def test_boundary_editor_matches_a_fresh_solve_and_its_basis():
             editor.solve(boundary_uv[:-1])
     with pytest.raises(uvflat.UnsupportedTopology):
         uvflat.BoundaryEditor(*load_mesh("closed_g0_decimated_knight.obj"))
+
+
+def test_closing_a_boundary_editor_waits_for_a_solve_in_another_thread():
+    # close() used to free the factorization under a solve() running without the GIL (a
+    # segmentation fault); now it waits, and the solves after it are refused.
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    editor = uvflat.BoundaryEditor(p, t)
+    angle = np.linspace(0.0, 2.0 * np.pi, len(editor.boundary), endpoint=False)
+    boundary_uv = np.c_[np.cos(angle), np.sin(angle)]
+    outcome: list = []
+    solved = threading.Event()
+
+    def solve_until_closed() -> None:
+        try:
+            while True:
+                editor.solve(boundary_uv)
+                solved.set()
+        except BaseException as e:  # noqa: B902 - the test inspects it
+            outcome.append(e)
+
+    worker = threading.Thread(target=solve_until_closed)
+    worker.start()
+    assert solved.wait(60)
+    editor.close()
+    worker.join(60)
+    assert not worker.is_alive()
+    assert len(outcome) == 1 and isinstance(outcome[0], uvflat.InvalidArgument), outcome
+
+
+def test_iteration_limits_beyond_32_bits_are_refused_not_wrapped():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    with pytest.raises(uvflat.InvalidArgument, match="iterations"):
+        uvflat.nonlinear_map(p, t, "slim", iterations=2**32 + 3)
+    with pytest.raises(uvflat.InvalidArgument, match="max_iterations"):
+        uvflat.abf(p, t, max_iterations=2**32)
+    with pytest.raises(uvflat.InvalidArgument, match="iterations"):
+        uvflat.spectral_conformal_map(p, t, iterations=-1)
+
+
+def test_a_cancellation_the_callback_did_not_ask_for_is_an_interrupt():
+    # Ctrl-C raised as the callback is entered, before its `try`, is swallowed by ctypes and
+    # ends the call as cancelled; the bridge tells that apart from a real cancellation.
+    bridge = _api._ProgressBridge(lambda fraction: True)
+    with pytest.raises(KeyboardInterrupt):
+        bridge.run(lambda: int(_errors.Status.CANCELLED))
+    declining = _api._ProgressBridge(lambda fraction: False)
+    assert declining._call(None, 0.5) == 1
+    with pytest.raises(uvflat.Cancelled):
+        declining.run(lambda: int(_errors.Status.CANCELLED))

@@ -718,18 +718,23 @@ def test_invoke_without_a_window_runs_synchronously():
     assert unwrap.LAST_RUN["islands"] == 1
 
 
+def add_wide_image(obj) -> None:
+    """A material whose active node is a 200 × 100 image texture (what Correct Aspect reads)."""
+    mat = bpy.data.materials.new("wide")
+    mat.use_nodes = True
+    node = mat.node_tree.nodes.new("ShaderNodeTexImage")
+    node.image = bpy.data.images.new("wide", 200, 100)
+    mat.node_tree.nodes.active = node
+    obj.data.materials.append(mat)
+
+
 def test_correct_aspect_uses_the_active_image():
     def unwrap_extent(aspect_image: bool) -> float:
         for o in list(bpy.data.objects):
             bpy.data.objects.remove(o)
         obj = grid(6)
         if aspect_image:
-            mat = bpy.data.materials.new("checker")
-            mat.use_nodes = True
-            node = mat.node_tree.nodes.new("ShaderNodeTexImage")
-            node.image = bpy.data.images.new("wide", 200, 100)
-            mat.node_tree.nodes.active = node
-            obj.data.materials.append(mat)
+            add_wide_image(obj)
         edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
         run(correct_aspect=True)
         uv = read(obj)["uv"]
@@ -809,12 +814,7 @@ def test_pins_keep_their_place_in_an_aspect_corrected_layout():
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=4, y_subdivisions=4)
     obj = bpy.context.object
     bpy.ops.object.mode_set(mode="OBJECT")
-    mat = bpy.data.materials.new("wide")
-    mat.use_nodes = True
-    node = mat.node_tree.nodes.new("ShaderNodeTexImage")
-    node.image = bpy.data.images.new("wide", 200, 100)
-    mat.node_tree.nodes.active = node
-    obj.data.materials.append(mat)
+    add_wide_image(obj)
     edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
     bpy.ops.uv.unwrap(method="CONFORMAL", correct_aspect=True, margin=0.001)
     reference = read(obj)["uv"]

@@ -15,13 +15,14 @@ from __future__ import annotations
 
 import ctypes
 import dataclasses
+import threading
 from ctypes import POINTER, byref, c_double, c_uint32
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from . import _library as L
-from ._errors import Error, InternalError, InvalidArgument, InvalidMesh, error_for_status
+from ._errors import Error, InternalError, InvalidArgument, InvalidMesh, Status, error_for_status
 
 ArrayLike = Any
 #: A progress callback: receives the fraction done in [0, 1]; returning ``False`` cancels.
@@ -185,6 +186,7 @@ class _ProgressBridge:
             raise InvalidArgument(f"progress must be callable or None, not {type(callback).__name__}")
         self.callback = callback
         self.exception: Optional[BaseException] = None
+        self.declined = False  # the callable asked to stop
         # A NULL function pointer when there is no callback.
         self.c_function = L.UvfProgressFn(self._call) if callback is not None else L.UvfProgressFn()
 
@@ -196,13 +198,21 @@ class _ProgressBridge:
         except BaseException as e:  # noqa: B902 - re-raised after the call, KeyboardInterrupt too
             self.exception = e
             return 1
-        return 0 if keep_going is None or keep_going else 1
+        if keep_going is None or keep_going:
+            return 0
+        self.declined = True
+        return 1
 
     def run(self, call: Callable[[], int]) -> None:
         """Runs the C call, then re-raises the callback's exception or checks the status."""
         status = call()
         if self.exception is not None:
             raise self.exception
+        if status == Status.CANCELLED and self.callback is not None and not self.declined:
+            # Cancelled, but neither by the callable's answer nor by an exception it raised:
+            # Ctrl-C arrived as the callback was entered, before its `try` (ctypes reports
+            # such an exception as "ignored" and the call stops). Not a cancellation.
+            raise KeyboardInterrupt("interrupted during a uvflat call")
         _check(status)
 
 
@@ -631,7 +641,7 @@ def nonlinear_map(
     L.library().uvf_nonlinear_options_default(byref(options))
     options.method = _code(method, _NONLINEAR, "method")
     if iterations is not None:
-        options.iterations = int(iterations)
+        options.iterations = _non_negative_int(iterations, "iterations")
     if tolerance is not None:
         options.tolerance = float(tolerance)
     if theta is not None:
@@ -701,7 +711,7 @@ def spectral_conformal_map(
     options = L.UvfSpectralOptions()
     L.library().uvf_spectral_options_default(byref(options))
     if iterations is not None:
-        options.iterations = int(iterations)
+        options.iterations = _non_negative_int(iterations, "iterations")
     if tolerance is not None:
         options.tolerance = float(tolerance)
     bridge = _ProgressBridge(progress)
@@ -758,7 +768,7 @@ def _circle_pattern_options(
     if pins is not None:
         _set_two_pins(options, pins)
     if max_iterations is not None:
-        options.max_iterations = int(max_iterations)
+        options.max_iterations = _non_negative_int(max_iterations, "max_iterations")
     if tolerance is not None:
         options.tolerance = float(tolerance)
     options.intrinsic_delaunay = 1 if intrinsic_delaunay else 0
@@ -1216,7 +1226,7 @@ def boundary_optimized_map(
 
     Returns:
         ``(uv, history, report)``: ``(n, 2)`` UVs, the energy history (start first,
-        non-increasing) and a :class:`BoundaryOptimizationReport`.
+        non-increasing; its first 2^20 entries) and a :class:`BoundaryOptimizationReport`.
     """
     p, t = _mesh_arrays(positions, triangles)
     options = L.UvfBoundaryOptimizationOptions()
@@ -1235,7 +1245,9 @@ def boundary_optimized_map(
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     uv = np.empty((len(p), 2), dtype=np.float64)
-    history = np.empty(options.iterations + 1, dtype=np.float64)
+    # The library writes what fits; 2^20 energies (8 MiB) rather than a buffer sized by a huge
+    # iteration limit that the tolerance ends long before.
+    history = np.empty(min(options.iterations + 1, 1 << 20), dtype=np.float64)
     report = L.UvfBoundaryOptimizationReport()
     lib = L.library()
     bridge.run(
@@ -1292,7 +1304,7 @@ def abf(
     if pins is not None:
         _set_two_pins(options, pins)
     if max_iterations is not None:
-        options.max_iterations = int(max_iterations)
+        options.max_iterations = _non_negative_int(max_iterations, "max_iterations")
     if tolerance is not None:
         options.tolerance = float(tolerance)
     options.weights = _code(
@@ -1831,6 +1843,8 @@ class BoundaryEditor:
     ) -> None:
         p, t = _mesh_arrays(positions, triangles)
         self._vertex_count = len(p)
+        # solve() and basis() run without the GIL; close() must not free the handle under them.
+        self._lock = threading.Lock()
         self._lib = L.library()
         options = L.UvfIntrinsicToolOptions()
         self._lib.uvf_intrinsic_tool_options_default(byref(options))
@@ -1855,7 +1869,8 @@ class BoundaryEditor:
         if b.shape != (len(self.boundary), 2):
             raise InvalidArgument(f"boundary_uv must have shape ({len(self.boundary)}, 2), not {b.shape}")
         uv = np.empty((self._vertex_count, 2), dtype=np.float64)
-        _check(self._lib.uvf_boundary_editor_solve(self._handle, _f64p(b), len(b), _f64p(uv)))
+        with self._lock:
+            _check(self._lib.uvf_boundary_editor_solve(self._handle, _f64p(b), len(b), _f64p(uv)))
         return uv
 
     def basis(self, max_bytes: int = 1 << 30) -> np.ndarray:
@@ -1865,14 +1880,20 @@ class BoundaryEditor:
         if needed > max_bytes:
             raise InvalidArgument(f"the basis needs {needed} bytes, more than max_bytes = {max_bytes}")
         out = np.empty((len(self.boundary), self._vertex_count), dtype=np.float64)
-        _check(self._lib.uvf_boundary_editor_basis(self._handle, int(max_bytes), _f64p(out)))
+        with self._lock:
+            _check(self._lib.uvf_boundary_editor_basis(self._handle, int(max_bytes), _f64p(out)))
         return out
 
     def close(self) -> None:
-        """Frees the factorization now (also done when the editor is garbage-collected)."""
-        if getattr(self, "_handle", None):
-            self._lib.uvf_boundary_editor_free(self._handle)
-            self._handle = None
+        """Frees the factorization now (also done when the editor is garbage-collected); waits
+        for a :meth:`solve` running in another thread. Later solves raise InvalidArgument."""
+        lock = getattr(self, "_lock", None)
+        if lock is None:
+            return
+        with lock:
+            if getattr(self, "_handle", None):
+                self._lib.uvf_boundary_editor_free(self._handle)
+                self._handle = None
 
     def __enter__(self) -> "BoundaryEditor":
         return self

@@ -45,6 +45,9 @@ pub(super) fn vertex_sums(
         if v as usize >= n || !mesh.is_referenced(v) || mesh.is_boundary_vertex(v) {
             return Err(Error::InvalidArgument(format!("cone vertex {v} is not an interior vertex of the mesh")));
         }
+        if !k.is_finite() {
+            return Err(Error::InvalidArgument(format!("the cone curvature at vertex {v} is not finite ({k})")));
+        }
         if std::mem::replace(&mut coned[v as usize], true) {
             return Err(Error::InvalidArgument(format!("cone vertex {v} is given twice")));
         }

@@ -37,6 +37,7 @@ use crate::error::{Error, Result};
 use crate::mesh::NONE;
 use crate::TriMesh;
 use rayon::prelude::*;
+use std::collections::HashSet;
 use std::f64::consts::TAU;
 
 /// One end of a graph edge: the neighbouring node and the slot of the arm there pointing back.
@@ -202,6 +203,7 @@ pub fn iso_graph(mesh: &TriMesh, result: &PgpResult, density: f64) -> Result<Iso
 pub fn iso_graph_of(mesh: &TriMesh, map: &PeriodicMap, density: f64) -> Result<IsoGraph> {
     let d = check_density(density)?;
     check_sizes(mesh, map)?;
+    check_graph_fits(map, d, available_memory())?;
     let grid = GridValues::new(mesh, map, d);
     let regular = regular_triangles(mesh, map);
     let chords: Vec<Vec<Chord>> = (0..mesh.triangle_count())
@@ -257,6 +259,42 @@ pub fn check_density(density: f64) -> Result<i64> {
             "density must be a whole number of lines per period, at least 1 (got {density})"
         )))
     }
+}
+
+/// Peak memory per grid cell of the line graph and the polygon mesh built from it, measured:
+/// `uvflat pgp closed_g1_bob.obj --quad-mesh … --quad-density 256` made 720,391 faces and
+/// peaked at 460 MB (about 640 bytes a face).
+const BYTES_PER_CELL: f64 = 640.0;
+
+/// Refuses a density whose line graph would not fit in `available` bytes of memory (None:
+/// unknown, not checked). The graph has about one node per grid cell, Σ_T |area of T in
+/// (θ, φ)| · (density / 2π)² over the triangles that carry lines; without this check a large
+/// density on a small mesh ran the machine out of memory (a process killed, not an error).
+pub fn check_graph_fits(map: &PeriodicMap, density: i64, available: Option<f64>) -> Result<()> {
+    let singular: HashSet<u32> = map.singular_triangles.iter().copied().collect();
+    let area: f64 = (map.param.coords.iter().enumerate())
+        .filter(|(t, _)| !singular.contains(&(*t as u32)))
+        .map(|(_, [a, b, c])| 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs())
+        .sum();
+    let cells = area * (density as f64 / TAU).powi(2);
+    let needed = cells * BYTES_PER_CELL;
+    match available {
+        Some(bytes) if needed > bytes => Err(Error::InvalidArgument(format!(
+            "density {density} would make about {cells:.3e} grid cells, needing about {:.1} GB of memory; {:.1} GB \
+             are available",
+            needed / 1e9,
+            bytes / 1e9
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// Memory the system can still give (Linux: MemAvailable of /proc/meminfo), in bytes.
+fn available_memory() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kilobytes: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kilobytes * 1024.0)
 }
 
 /// Triangles that carry lines: not singular (§3.2).

@@ -79,8 +79,90 @@ pub fn quad_dominant_remesh_of(mesh: &TriMesh, map: &PeriodicMap, density: f64) 
             out.indices.extend(ids);
         }
     }
+    // Splitting first: a pinched vertex's fan of two faces is a doublet once it has a copy of
+    // its own.
     split_pinched_vertices(&mut out);
+    merge_doublets(&mut out);
     Ok(out)
+}
+
+/// Merges the two faces of every doublet: a vertex v with exactly two faces that share both
+/// of its edges (b–v and v–d), left where a line of the graph stops one node short of a
+/// crossing. The two faces lie on either side of the path b–v–d, so they fold onto each other
+/// around v, and a reader that fan-triangulates them (uvflat's own OBJ reader, and most) gets
+/// two triangles over the same three vertices. Their union without v is one polygon: two
+/// quads make a quad, a quad and a triangle a triangle. Repeated until no doublet is left (a
+/// merge can make b or d a doublet); v is dropped from the vertices. Pillows are dropped too
+/// (their four corners are all doublets, and no merge can remove them).
+fn merge_doublets(out: &mut PolygonMesh) {
+    let mut faces: Vec<Option<Vec<u32>>> = out.faces().map(|f| Some(f.to_vec())).collect();
+    let mut merged_any = false;
+    loop {
+        let mut incident: Vec<Vec<usize>> = vec![Vec::new(); out.positions.len()];
+        for (f, face) in faces.iter().enumerate() {
+            for &v in face.iter().flatten() {
+                incident[v as usize].push(f);
+            }
+        }
+        let mut touched = vec![false; faces.len()];
+        let mut merged = false;
+        for (v, at_v) in incident.iter().enumerate() {
+            let &[f, g] = at_v.as_slice() else { continue };
+            if touched[f] || touched[g] {
+                continue;
+            }
+            let (Some(a), Some(b)) = (&faces[f], &faces[g]) else { continue };
+            if let Some(union) = doublet_union(a, b, v as u32) {
+                faces[f] = Some(union);
+                faces[g] = None;
+                (touched[f], touched[g], merged) = (true, true, true);
+            }
+        }
+        if !merged {
+            break;
+        }
+        merged_any = true;
+    }
+    // Two faces over one cycle in opposite directions (a pocket the polygon splitting can leave
+    // where a small cycle was split twice) are dropped as before the split.
+    let count = faces.iter().flatten().count();
+    let kept = without_pillows(faces.into_iter().flatten().collect());
+    if merged_any || kept.len() != count {
+        *out = compacted(&out.positions, kept.into_iter());
+    }
+}
+
+/// The union of faces `a` and `b` around their doublet vertex `v` (a: … x, v, y …; b: … y, v,
+/// x …), without v; None when they do not meet that way or the union repeats a vertex.
+fn doublet_union(a: &[u32], b: &[u32], v: u32) -> Option<Vec<u32>> {
+    let (i, j) = (a.iter().position(|&w| w == v)?, b.iter().position(|&w| w == v)?);
+    let (na, nb) = (a.len(), b.len());
+    let (x, y) = (a[(i + na - 1) % na], a[(i + 1) % na]);
+    if b[(j + nb - 1) % nb] != y || b[(j + 1) % nb] != x {
+        return None;
+    }
+    // a from y round to x, then b's corners strictly between x and y.
+    let mut union: Vec<u32> = (1..na).map(|k| a[(i + k) % na]).collect();
+    union.extend((2..nb - 1).map(|k| b[(j + k) % nb]));
+    let distinct: HashSet<u32> = union.iter().copied().collect();
+    (union.len() >= 3 && distinct.len() == union.len()).then_some(union)
+}
+
+/// The polygon mesh of `faces` over the vertices they use, renumbered in order of first use.
+fn compacted(positions: &[[f64; 3]], faces: impl Iterator<Item = Vec<u32>>) -> PolygonMesh {
+    let mut out = PolygonMesh::default();
+    let mut index = vec![NONE; positions.len()];
+    for face in faces {
+        out.face_sizes.push(face.len() as u32);
+        for v in face {
+            if index[v as usize] == NONE {
+                index[v as usize] = out.positions.len() as u32;
+                out.positions.push(positions[v as usize]);
+            }
+            out.indices.push(index[v as usize]);
+        }
+    }
+    out
 }
 
 /// Gives every fan of faces around a vertex its own copy of the vertex. Where the line graph
