@@ -584,3 +584,40 @@ fn a_full_standard_output_is_an_error_not_a_panic() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("failed printing to stdout") && !stderr(&o).contains("panicked"), "{}", stderr(&o));
 }
+
+#[test]
+fn old_texture_coordinates_do_not_stop_a_new_unwrap() {
+    // One face with `vt` indices and one without: `metrics` refuses it (it reads those UVs),
+    // `unwrap` computes new ones and ignores them.
+    let input = scratch("partial-vt.obj");
+    std::fs::write(&input, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0.2\nvt 0 0\nf 1/1 2/1 3/1\nf 2 4 3\n").unwrap();
+    let out = scratch("partial-vt-out.obj");
+    let o = uvflat(&["unwrap", input.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(count_lines(&out, "vt "), 4);
+    let o = uvflat(&["metrics", input.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+}
+
+#[test]
+fn negative_weights_parse_and_options_a_method_ignores_are_refused() {
+    let out = scratch("negative-lambda.obj");
+    // (Whether a negative λ makes a valid map is the library's call; the parser must pass it.)
+    let o = uvflat(&[
+        "unwrap",
+        SAMPLE,
+        "-o",
+        out.to_str().unwrap(),
+        "--method",
+        "intrinsic",
+        "--lambda",
+        "-0.5",
+        "--mu",
+        "1",
+    ]);
+    assert_ne!(o.status.code(), Some(2), "{}", stderr(&o));
+    let torus = format!("{MESHES}/closed_g0_bunny.obj");
+    let o = uvflat(&["sphere", &torus, "-o", out.to_str().unwrap(), "--method", "stereographic", "--sweeps", "5"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--sweeps"), "{}", stderr(&o));
+}

@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use uvflat::atlas::{atlas, cut_and_flatten, Atlas, AtlasOptions, ChartMethod};
-use uvflat::io::obj::{read_obj, write_obj_with_corner_uv, write_obj_with_uv, ObjMesh};
+use uvflat::io::obj::{read_obj, read_obj_geometry, write_obj_with_corner_uv, write_obj_with_uv, ObjMesh};
 use uvflat::io::surface_svg::{write_periodic_svg, write_polygon_mesh_svg, PeriodicPicture};
 use uvflat::io::svg::write_uv_svg;
 use uvflat::mesh::cut::{cut_to_disk, total_edge_length, EdgeCost};
@@ -228,9 +228,10 @@ struct SphereArgs {
     /// Spherical parameterization method.
     #[arg(long, value_enum, default_value_t = SphereMethodName::TutteGnomonic)]
     method: SphereMethodName,
-    /// Relaxation sweeps (Gauss–Seidel iterations, guarded relaxation of tutte-gnomonic).
-    #[arg(long, default_value_t = 100)]
-    sweeps: usize,
+    /// Relaxation sweeps (Gauss–Seidel iterations, guarded relaxation of tutte-gnomonic; the
+    /// other methods have none); default 100.
+    #[arg(long)]
+    sweeps: Option<usize>,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -259,7 +260,8 @@ enum CutMode {
 
 #[derive(clap::Args)]
 struct UnwrapArgs {
-    /// Input mesh (OBJ; polygons are fan-triangulated).
+    /// Input mesh (OBJ; polygons are fan-triangulated, or cut by ear clipping where the fan would
+    /// fold).
     input: PathBuf,
     /// Output OBJ with one UV per vertex.
     #[arg(short = 'o', long = "output")]
@@ -274,14 +276,14 @@ struct UnwrapArgs {
     /// Spacing of boundary vertices along the circle or square.
     #[arg(long, value_enum)]
     distribution: Option<DistributionName>,
-    /// λ of the intrinsic method (weight of the conformal part); default 1.
-    #[arg(long)]
+    /// λ of the intrinsic method (weight of the conformal part; may be negative); default 1.
+    #[arg(long, allow_negative_numbers = true)]
     lambda: Option<f64>,
-    /// μ of the intrinsic method (weight of the authalic part); default 0.
-    #[arg(long)]
+    /// μ of the intrinsic method (weight of the authalic part; may be negative); default 0.
+    #[arg(long, allow_negative_numbers = true)]
     mu: Option<f64>,
-    /// Vertex to pin (natural-conformal; give exactly two). Default: the two boundary
-    /// vertices farthest apart.
+    /// Vertex to pin, a 0-based index (the first `v` line is 0; natural-conformal; give exactly
+    /// two). Default: the two boundary vertices farthest apart.
     #[arg(long = "pin")]
     pins: Vec<u32>,
     /// Iteration limit of the non-linear methods (slim, arap, mips, ...); default 100.
@@ -298,8 +300,9 @@ struct UnwrapArgs {
     /// flipping to the intrinsic Delaunay triangulation first (never flips, more distortion).
     #[arg(long = "no-intrinsic-delaunay")]
     no_intrinsic_delaunay: bool,
-    /// circle-patterns: a corner of a straight-sided convex polygon (give at least 3, on the
-    /// longest boundary loop; 4 give a rectangle); default: free boundary.
+    /// circle-patterns: a vertex (0-based) that is a corner of a straight-sided convex polygon
+    /// (give at least 3, on the longest boundary loop; 4 give a rectangle); default: free
+    /// boundary.
     #[arg(long = "corner")]
     corners: Vec<u32>,
     /// circle-patterns: keep the UV boundary convex (every boundary vertex turns by at least 0),
@@ -307,7 +310,7 @@ struct UnwrapArgs {
     /// their prescribed turning.
     #[arg(long = "convex-boundary")]
     convex_boundary: bool,
-    /// circle-patterns: a cone singularity `V:DEGREES` at interior vertex V, its curvature in
+    /// circle-patterns: a cone singularity `V:DEGREES` at interior vertex V (0-based), its curvature in
     /// degrees (360 minus the cone angle: 90 for a cube corner); repeat. The mesh is then cut
     /// through the cones (any genus; on a closed mesh the curvatures must sum to 360·χ) and the
     /// UVs are per corner. Tori need none: give `--cone` with curvature 0 (e.g. `0:0`).
@@ -463,7 +466,11 @@ struct Failure {
 
 impl From<Error> for Failure {
     fn from(e: Error) -> Self {
-        Failure { message: e.to_string(), usage: false }
+        let hint = match e {
+            Error::MultipleComponents { .. } => " (`uvflat unwrap --atlas` unwraps every component)",
+            _ => "",
+        };
+        Failure { message: format!("{e}{hint}"), usage: false }
     }
 }
 
@@ -526,7 +533,7 @@ fn method_label(method: MethodName) -> &'static str {
 }
 
 fn load_mesh(path: &Path) -> Result<(ObjMesh, TriMesh), Failure> {
-    let obj = read_obj(path)?;
+    let obj = read_obj_geometry(path)?;
     let mesh = TriMesh::new(&obj.positions, &obj.triangles)
         .map_err(|e| Failure { message: format!("{}: {e}", path.display()), usage: false })?;
     Ok((obj, mesh))
@@ -541,7 +548,7 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
     if args.max_stretch.is_some() || args.no_rotate || args.polish.is_some() {
         return Err(usage("--max-stretch, --no-rotate and --polish apply to --atlas only"));
     }
-    let obj = read_obj(&args.input)?;
+    let obj = read_obj_geometry(&args.input)?;
     let start = Instant::now();
     let mesh = TriMesh::new(&obj.positions, &obj.triangles)
         .map_err(|e| Failure { message: format!("{}: {e}", args.input.display()), usage: false })?;
@@ -846,6 +853,10 @@ fn atlas_seam_length(mesh: &TriMesh, atlas: &Atlas) -> f64 {
 
 fn sphere(args: &SphereArgs) -> Result<(), Failure> {
     check_outputs(&[("-o", Some(&args.output))])?;
+    let relaxed = matches!(args.method, SphereMethodName::TutteGnomonic | SphereMethodName::GaussSeidel);
+    if args.sweeps.is_some() && !relaxed {
+        return Err(usage("--sweeps applies to --method tutte-gnomonic and gauss-seidel only"));
+    }
     let (obj, mesh) = load_mesh(&args.input)?;
     let method = match args.method {
         SphereMethodName::TutteGnomonic => SphereMethod::TutteGnomonic,
@@ -854,7 +865,7 @@ fn sphere(args: &SphereArgs) -> Result<(), Failure> {
         SphereMethodName::CirclePatterns => SphereMethod::CirclePatterns,
     };
     let start = Instant::now();
-    let map = spherical_map(&mesh, &SphereOptions { method, sweeps: args.sweeps })?;
+    let map = spherical_map(&mesh, &SphereOptions { method, sweeps: args.sweeps.unwrap_or(100) })?;
     let seconds = start.elapsed().as_secs_f64();
     write_sphere_obj(&args.output, &map.positions, &obj.triangles)?;
     let name = SphereMethodName::value_variants()
@@ -894,7 +905,7 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
         ("--quad-mesh", args.quad_mesh.as_deref()),
         ("--quad-svg", args.quad_svg.as_deref()),
     ])?;
-    let obj = read_obj(&args.input)?;
+    let obj = read_obj_geometry(&args.input)?;
     let mesh = TriMesh::new(&obj.positions, &obj.triangles)?;
     let options = QuadCoverOptions {
         grid_spacing: args.grid_spacing,

@@ -53,9 +53,20 @@ impl ObjMesh {
 /// cannot be read, a number does not parse, a face has fewer than 3 corners, an index is 0 or out
 /// of range, or some faces have `vt` indices and others do not.
 pub fn read_obj(path: &Path) -> Result<ObjMesh, Error> {
+    read(path, false)
+}
+
+/// [`read_obj`] without the texture coordinates: `vt` lines and the `vt` indices of faces are
+/// skipped, so a file whose old UVs are incomplete or broken still gives its mesh (for callers
+/// that compute new UVs).
+pub fn read_obj_geometry(path: &Path) -> Result<ObjMesh, Error> {
+    read(path, true)
+}
+
+fn read(path: &Path, geometry_only: bool) -> Result<ObjMesh, Error> {
     let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
     let text = String::from_utf8_lossy(&bytes);
-    parse_obj(&text).map_err(|message| Error::Io { path: path.display().to_string(), message })
+    parse_obj_with(&text, geometry_only).map_err(|message| Error::Io { path: path.display().to_string(), message })
 }
 
 /// Writes a mesh with one uv per vertex: `v` lines, one `vt` per vertex, `f a/a b/b c/c`. A uv
@@ -119,12 +130,19 @@ struct ObjParser {
     /// Faces of more than three corners: their first triangle and their corners (positions may
     /// come later in the file, so their fans are checked at the end).
     polygons: Vec<(usize, Vec<u32>)>,
+    /// Skip texture coordinates (`vt` lines and indices).
+    geometry_only: bool,
 }
 
+#[cfg(test)]
 fn parse_obj(text: &str) -> Result<ObjMesh, String> {
+    parse_obj_with(text, false)
+}
+
+fn parse_obj_with(text: &str, geometry_only: bool) -> Result<ObjMesh, String> {
     // A UTF-8 byte-order mark (Windows editors write one) is not part of the first line.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut parser = ObjParser::default();
+    let mut parser = ObjParser { geometry_only, ..ObjParser::default() };
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
         let content = raw.split('#').next().unwrap_or("");
@@ -133,6 +151,7 @@ fn parse_obj(text: &str) -> Result<ObjMesh, String> {
             Some("v") => parse_numbers(&mut words, 3, 3, "a vertex").map(|xyz| {
                 parser.mesh.positions.extend_from_slice(&xyz);
             }),
+            Some("vt") if geometry_only => Ok(()),
             Some("vt") => parse_numbers(&mut words, 1, 2, "a texture coordinate").map(|mut uv| {
                 uv.resize(2, 0.0);
                 parser.mesh.uv.extend_from_slice(&uv);
@@ -192,6 +211,9 @@ impl ObjParser {
         let mut uvs = Vec::with_capacity(corners.len());
         for c in &corners {
             vertices.push(self.resolve(line, c.vertex, vertex_count, "vertex")?);
+            if self.geometry_only {
+                continue;
+            }
             match c.uv {
                 Some(t) => uvs.push(self.resolve(line, t, uv_count, "texture coordinate")?),
                 None => self.first_face_without_uv = self.first_face_without_uv.or(Some(line)),
@@ -499,6 +521,17 @@ mod tests {
         let areas = xy_areas(&parse_obj(text).unwrap());
         assert!(areas.iter().all(|&a| a > 0.0), "{areas:?}");
         assert!((areas.iter().sum::<f64>() - 8.0).abs() < 1e-12, "{areas:?}");
+    }
+
+    #[test]
+    fn geometry_only_skips_incomplete_texture_coordinates() {
+        // One face with `vt` indices, one without, one out of range: refused with the UVs,
+        // read without them.
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nf 1/1 2/1 3/1\nf 2 4 3\nf 1/9 2/9 3/9\n";
+        assert!(parse_obj(text).is_err());
+        let mesh = parse_obj_with(text, true).unwrap();
+        assert_eq!(mesh.triangles, [0, 1, 2, 1, 3, 2, 0, 1, 2]);
+        assert!(mesh.uv.is_empty() && mesh.uv_triangles.is_empty());
     }
 
     #[test]

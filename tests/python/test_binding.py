@@ -1571,3 +1571,13 @@ def test_a_cancellation_the_callback_did_not_ask_for_is_an_interrupt():
     assert declining._call(None, 0.5) == 1
     with pytest.raises(uvflat.Cancelled):
         declining.run(lambda: int(_errors.Status.CANCELLED))
+
+
+def test_empty_index_lists_are_empty_and_float_pin_vertices_are_refused():
+    p, t = load_mesh("disk_nefertiti_small.obj")
+    # An empty list is an empty index array, not "floats".
+    assert _api._as_indices([], "corners", uvflat.InvalidArgument, None).shape == (0,)
+    with pytest.raises(uvflat.InvalidArgument, match="pins"):
+        uvflat.natural_conformal_map(p, t, pins=((0.9, (0.0, 0.0)), (5.7, (1.0, 0.0))))
+    with pytest.raises(uvflat.InvalidArgument, match="pins"):
+        uvflat.pinned_natural_conformal_map(p, t, {0.5: (0.0, 0.0), 3: (1.0, 0.0)})

@@ -150,7 +150,8 @@ def _as_indices(
     32 bits raises ``error`` with ``describe`` filled in for the first one."""
     array = np.asarray(a)
     if array.size == 0:
-        array = array.reshape((0, columns) if columns else (0,))
+        # (An empty list becomes a float64 array: no index in it, so nothing to refuse.)
+        array = array.reshape((0, columns) if columns else (0,)).astype(np.uint32)
     if array.ndim != (2 if columns else 1) or (columns and array.shape[1] != columns):
         shape = f"(k, {columns})" if columns else "(k,)"
         raise InvalidArgument(f"{what} must have shape {shape}, not {array.shape}")
@@ -449,6 +450,8 @@ def _set_two_pins(options: Any, pins: Pins) -> None:
     ``pin_vertices`` and ``pin_uv`` fields (natural conformal and ABF options share them)."""
     try:
         (v0, uv0), (v1, uv1) = pins
+        if any(isinstance(v, bool) or not isinstance(v, (int, np.integer)) for v in (v0, v1)):
+            raise TypeError  # a float vertex would be truncated to another vertex
         vertices = [int(v0), int(v1)]
         uvs = [float(uv0[0]), float(uv0[1]), float(uv1[0]), float(uv1[1])]
         if len(uv0) != 2 or len(uv1) != 2:
@@ -578,6 +581,8 @@ def pinned_natural_conformal_map(
     """
     p, t = _mesh_arrays(positions, triangles)
     try:
+        if any(isinstance(v, bool) or not isinstance(v, (int, np.integer)) for v in dict(pins)):
+            raise TypeError  # a float vertex would be truncated to another vertex
         items = sorted((int(v), (float(uv[0]), float(uv[1]))) for v, uv in dict(pins).items())
     except (TypeError, ValueError, IndexError):
         raise InvalidArgument(f"pins must map vertex -> (u, v), not {pins!r}") from None
