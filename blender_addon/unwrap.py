@@ -115,6 +115,7 @@ class _Job:
         self.pin_vertices = pin_vertices  # island-local vertices with a pinned loop (unique)
         self.pin_uv = pin_uv  # their current UVs
         self.uv: Optional[np.ndarray] = None
+        self.holes = True  # whether it may have more than one boundary loop (False once known)
 
     @staticmethod
     def of(obj_index: int, island: isl.Island, uv: np.ndarray, pinned: np.ndarray) -> "_Job":
@@ -143,6 +144,7 @@ class UnwrapRun:
         self.fraction = 0.0
         self.error: Optional[BaseException] = None
         self.meshes: List[Tuple[Any, ...]] = []
+        self.has_degenerate: List[bool] = []  # per mesh: any zero-area triangle at all
         self.jobs: List[_Job] = []
         for k, obj in enumerate(objects):
             self._read(k, obj, correct_aspect)
@@ -171,15 +173,20 @@ class UnwrapRun:
         source = key.data if key is not None and len(key.data) == len(me.vertices) else me.vertices
         positions = _get(source, "co", np.float32, len(me.vertices), 3).astype(np.float64)
         selected = _get(me.polygons, "select", bool, n_polys) & ~_get(me.polygons, "hide", bool, n_polys)
+        loop_vertex = _get(me.loops, "vertex_index", np.int32, n_loops)
+        tri_loops = _get(me.loop_triangles, "loops", np.int32, len(me.loop_triangles), 3)
+        # Checked once for the whole mesh, so that islands are only searched when it has any.
+        relative = isl.relative_areas(positions, loop_vertex[tri_loops].reshape(-1, 3))
+        self.has_degenerate.append(bool((relative <= isl.DEGENERATE_RELATIVE_AREA).any()))
         split = isl.split_islands(
             positions,
-            _get(me.loops, "vertex_index", np.int32, n_loops),
+            loop_vertex,
             _get(me.loops, "edge_index", np.int32, n_loops),
             _get(me.polygons, "loop_start", np.int32, n_polys),
             _get(me.polygons, "loop_total", np.int32, n_polys),
             selected,
             _get(me.edges, "use_seam", bool, len(me.edges)),
-            _get(me.loop_triangles, "loops", np.int32, len(me.loop_triangles), 3),
+            tri_loops,
             _get(me.loop_triangles, "polygon_index", np.int32, len(me.loop_triangles)),
         )
         # The attribute accessors (uv, pin, vertex_selection, edge_selection), not the legacy
@@ -226,8 +233,10 @@ class UnwrapRun:
 
     def _solve_job(self, index: int, job: _Job, progress: Callable[[float], bool]) -> None:
         uvflat = self.uvflat
-        job = self.jobs[index] = _Job(job.obj_index, isl.without_degenerate(job.island), job.pin_vertices, job.pin_uv)
-        problem = self._problem(job.island)
+        if self.has_degenerate[job.obj_index]:
+            job = self.jobs[index] = _Job(job.obj_index, isl.without_degenerate(job.island), job.pin_vertices, job.pin_uv)
+        problem, loops = self._problem(job.island)
+        job.holes = loops > 1
         if problem is not None and problem[0] in ("closed", "not_disk") and self.settings["cut_closed"]:
             cut = self._cut(job.island)
             if isinstance(cut, str):
@@ -235,6 +244,7 @@ class UnwrapRun:
             else:
                 _, _, _, uv, pinned, _ = self.meshes[job.obj_index]
                 job = self.jobs[index] = _Job.of(job.obj_index, cut, uv, pinned)
+                job.holes = False  # a cut graph opens the surface into one disk
                 problem = None
                 self.cut_islands += 1
         if problem is not None:
@@ -255,18 +265,19 @@ class UnwrapRun:
         if len(self.messages) < 3:
             self.messages.append(message)
 
-    def _problem(self, island: isl.Island) -> Optional[Tuple[str, str]]:
-        """Why an island cannot be unwrapped (kind, message), or None."""
+    def _problem(self, island: isl.Island) -> Tuple[Optional[Tuple[str, str]], int]:
+        """Why an island cannot be unwrapped (kind, message), or None; and its number of
+        boundary loops."""
         uvflat = self.uvflat
         try:
             info = uvflat.mesh_info(island.positions, island.triangles)
         except uvflat.Error as e:
-            return "invalid", f"island of {len(island.polys)} faces: {e.message or e}"
+            return ("invalid", f"island of {len(island.polys)} faces: {e.message or e}"), 0
         if info.boundary_loops == 0:
-            return "closed", f"closed island of {len(island.polys)} faces"
+            return ("closed", f"closed island of {len(island.polys)} faces"), 0
         if info.genus > 0:
-            return "not_disk", f"island of {len(island.polys)} faces has genus {info.genus}"
-        return None
+            return ("not_disk", f"island of {len(island.polys)} faces has genus {info.genus}"), info.boundary_loops
+        return None, info.boundary_loops
 
     def _cut(self, island: isl.Island) -> Any:
         """The island cut into a disk (``uvflat.cut_to_disk``), or a message saying why not.
@@ -290,13 +301,14 @@ class UnwrapRun:
         result is put back into it (as the free islands' layout does)."""
         aspect = self.meshes[job.obj_index][5]
         square = _Job(job.obj_index, job.island, job.pin_vertices, to_square(job.pin_uv, aspect))
+        square.holes = job.holes
         uv, unenforced = self._solve_square(square, progress)
         return (from_square(uv, aspect) if len(job.pin_vertices) else uv), unenforced
 
     def _solve_square(self, job: _Job, progress: Callable[[float], bool]) -> Tuple[np.ndarray, int]:
         uvflat, method = self.uvflat, self.settings["method"]
         p, t = job.island.positions, job.island.triangles
-        if method in _FREE_BOUNDARY and self.settings.get("fill_holes", True):
+        if method in _FREE_BOUNDARY and self.settings.get("fill_holes", True) and job.holes:
             # Virtual cones over the holes (Blender's Fill Holes): without them a tube's
             # free-boundary conformal map is pressed flat, its two layers folded at the sides.
             p, t = isl.fill_holes(p, t, uvflat.boundary_loops(p, t))

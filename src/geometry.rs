@@ -47,14 +47,10 @@ pub struct TriangleGeometry {
 
 /// Interior angle (radians) at every corner of every triangle, in parallel.
 pub fn corner_angles(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[f64; 3]> {
-    triangles
-        .par_iter()
-        .with_min_len(4096)
-        .map(|tri| {
-            let p = tri.map(|v| points[v as usize]);
-            std::array::from_fn(|k| corner_angle_cot(p[k], p[(k + 1) % 3], p[(k + 2) % 3]).0)
-        })
-        .collect()
+    crate::parallel::map_range(triangles.len(), |t| {
+        let p = triangles[t].map(|v| points[v as usize]);
+        std::array::from_fn(|k| corner_angle_cot(p[k], p[(k + 1) % 3], p[(k + 2) % 3]).0)
+    })
 }
 
 /// Angle and cotangent at the corner `p` between the edges towards `q` and `r`.
@@ -88,23 +84,31 @@ impl TriangleGeometry {
     ) -> (Self, Option<(usize, f64)>) {
         let m = triangles.len();
         let mut g = TriangleGeometry { area: vec![0.0; m], cot: vec![[0.0; 3]; m] };
-        let rejected = g
-            .area
-            .par_iter_mut()
-            .zip(g.cot.par_iter_mut())
-            .zip(triangles.par_iter())
-            .with_min_len(4096)
-            .enumerate()
-            .filter_map(|(t, ((area, cot), tri))| {
-                let p = tri.map(|v| points[v as usize]);
-                *area = 0.5 * norm(cross(sub(p[1], p[0]), sub(p[2], p[0])));
-                for k in 0..3 {
-                    cot[k] = corner_cot(p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
-                }
-                let relative = crate::mesh::validate::relative_area(p[0], p[1], p[2]);
-                reject(relative).then_some((t, relative))
-            })
-            .min_by_key(|&(t, _)| t);
+        let fill = |(t, ((area, cot), tri)): (usize, ((&mut f64, &mut [f64; 3]), &[u32; 3]))| {
+            let p = tri.map(|v| points[v as usize]);
+            *area = 0.5 * norm(cross(sub(p[1], p[0]), sub(p[2], p[0])));
+            for k in 0..3 {
+                cot[k] = corner_cot(p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
+            }
+            let relative = crate::mesh::validate::relative_area(p[0], p[1], p[2]);
+            reject(relative).then_some((t, relative))
+        };
+        // (On the calling thread for small meshes: see `crate::parallel`.)
+        let rejected = if m < crate::parallel::SEQUENTIAL_BELOW {
+            g.area
+                .iter_mut()
+                .zip(g.cot.iter_mut())
+                .zip(triangles.iter())
+                .enumerate()
+                .filter_map(fill)
+                .min_by_key(|&(t, _)| t)
+        } else {
+            (g.area.par_iter_mut().zip(g.cot.par_iter_mut()).zip(triangles.par_iter()))
+                .with_min_len(crate::parallel::SEQUENTIAL_BELOW)
+                .enumerate()
+                .filter_map(fill)
+                .min_by_key(|&(t, _)| t)
+        };
         (g, rejected)
     }
 }

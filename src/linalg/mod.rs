@@ -526,7 +526,11 @@ fn try_zeroed_vec<T: ComplexField + Copy + Send + Sync>(len: usize) -> Result<Ve
     let mut v = Vec::new();
     v.try_reserve_exact(len)
         .map_err(|_| Error::Internal(format!("out of memory for a Cholesky factor of {len} entries")))?;
-    v.par_extend(repeat_n(T::zero_impl(), len));
+    if len < crate::parallel::SEQUENTIAL_BELOW {
+        v.resize(len, T::zero_impl());
+    } else {
+        v.par_extend(repeat_n(T::zero_impl(), len));
+    }
     Ok(v)
 }
 

@@ -170,12 +170,18 @@ fn run_with<T: ComplexField + Copy + Send + Sync>(
         spare: Mutex::new(std::mem::take(spare)),
     };
     let tasks = tree.task_roots(tree.total_work() * TASK_FRACTION);
-    rayon::scope(|scope| {
-        for &root in &tasks {
-            let cx = &cx;
-            scope.spawn(move |_| run_task(root, cx));
-        }
-    });
+    if tasks.len() < 2 || sn.nrows() < crate::parallel::SEQUENTIAL_BELOW {
+        // On the calling thread (see `crate::parallel`): a task finishing last under a parent
+        // goes on with it, in any order.
+        tasks.iter().for_each(|&root| run_task(root, &cx));
+    } else {
+        rayon::scope(|scope| {
+            for &root in &tasks {
+                let cx = &cx;
+                scope.spawn(move |_| run_task(root, cx));
+            }
+        });
+    }
     *spare = cx.spare.into_inner().unwrap_or_else(|e| e.into_inner());
     spare.sort_unstable_by_key(|b| std::cmp::Reverse(b.capacity()));
     spare.truncate(SPARE_KEEP);

@@ -14,7 +14,6 @@
 //! (for edges) or vertex (for fans) order.
 
 use crate::error::{Error, Result};
-use rayon::prelude::*;
 
 /// Marks "no half-edge" (boundary twin, unreferenced vertex).
 pub const NONE: u32 = u32::MAX;
@@ -241,8 +240,7 @@ impl Rotations {
 /// for boundary vertices; for interior vertices the successor of the lowest-numbered one.
 fn check_single_fans(vertex_count: usize, triangles: &[[u32; 3]], twin: &[u32]) -> Result<Vec<u32>> {
     let rotations = Rotations::new(vertex_count, triangles, twin);
-    let fans: Vec<Option<u32>> =
-        (0..vertex_count).into_par_iter().with_min_len(4096).map(|v| single_fan_start(rotations.of(v), twin)).collect();
+    let fans: Vec<Option<u32>> = crate::parallel::map_range(vertex_count, |v| single_fan_start(rotations.of(v), twin));
     let mut vertex_halfedge = Vec::with_capacity(vertex_count);
     for (v, fan) in fans.into_iter().enumerate() {
         match fan {

@@ -75,12 +75,18 @@ impl TriMesh {
     fn with_geometry(points: Vec<[f64; 3]>, tris: Vec<[u32; 3]>, geometry: TriangleGeometry) -> Result<Self> {
         // Independent passes run side by side; a duplicate triangle is reported before the
         // connectivity's errors, as when they ran one after the other.
-        let (duplicates, conn) =
-            rayon::join(|| validate::check_duplicates(&tris), || Connectivity::new(points.len(), &tris));
+        let (duplicates, conn) = crate::parallel::join(
+            tris.len(),
+            || validate::check_duplicates(&tris),
+            || Connectivity::new(points.len(), &tris),
+        );
         duplicates?;
         let conn = conn?;
-        let (loops, (component, component_count)) =
-            rayon::join(|| topology::boundary_loops(&tris, &conn), || topology::triangle_components(tris.len(), &conn));
+        let (loops, (component, component_count)) = crate::parallel::join(
+            tris.len(),
+            || topology::boundary_loops(&tris, &conn),
+            || topology::triangle_components(tris.len(), &conn),
+        );
         let referenced_count = conn.vertex_halfedge.iter().filter(|&&h| h != NONE).count();
         Ok(TriMesh {
             points,

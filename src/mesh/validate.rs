@@ -2,7 +2,6 @@
 //! finite coordinates, repeated vertices, degenerate and duplicate triangles.
 
 use crate::error::{Error, Result};
-use rayon::prelude::*;
 
 /// Triangles whose area is below this fraction of their longest edge squared are degenerate.
 /// (A needle with a 1e-6 degree angle still passes; collinear points do not.)
@@ -83,7 +82,7 @@ pub fn is_degenerate(relative_area: f64) -> bool {
 pub fn check_degenerate(points: &[[f64; 3]], tris: &[[u32; 3]]) -> Result<()> {
     let relative =
         |tri: &[u32; 3]| relative_area(points[tri[0] as usize], points[tri[1] as usize], points[tri[2] as usize]);
-    let degenerate = tris.par_iter().with_min_len(4096).position_first(|tri| is_degenerate(relative(tri)));
+    let degenerate = crate::parallel::position_first(tris, |tri| is_degenerate(relative(tri)));
     match degenerate {
         Some(t) => Err(Error::DegenerateTriangle { triangle: t, relative_area: relative(&tris[t]) }),
         None => Ok(()),

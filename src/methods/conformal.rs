@@ -249,18 +249,15 @@ fn assemble_conformal_system(
     const RANGES: usize = 4;
     let halfedges = mesh.connectivity().twin.len();
     let step = halfedges.div_ceil(RANGES);
-    let parts: Vec<EdgeTerms> = (0..RANGES)
-        .into_par_iter()
-        .map(|k| {
-            edge_terms(mesh, weights, index, count, pinned, (k * step).min(halfedges)..((k + 1) * step).min(halfedges))
-        })
-        .collect();
-    let mut diagonal = vec![c64::new(0.0, 0.0); count];
-    diagonal
-        .par_iter_mut()
-        .enumerate()
-        .with_min_len(4096)
-        .for_each(|(r, d)| d.re = parts.iter().map(|p| p.diagonal[r]).sum());
+    let part = |k: usize| {
+        edge_terms(mesh, weights, index, count, pinned, (k * step).min(halfedges)..((k + 1) * step).min(halfedges))
+    };
+    // (On the calling thread for small meshes: see `crate::parallel`.)
+    let small = halfedges < crate::parallel::SEQUENTIAL_BELOW;
+    let parts: Vec<EdgeTerms> =
+        if small { (0..RANGES).map(part).collect() } else { (0..RANGES).into_par_iter().map(part).collect() };
+    let diagonal: Vec<c64> =
+        crate::parallel::map_range(count, |r| c64::new(parts.iter().map(|p| p.diagonal[r]).sum(), 0.0));
     let mut rhs = Mat::<c64>::zeros(count, 1);
     let mut lower = Vec::with_capacity(parts.iter().map(|p| p.lower.len()).sum());
     for part in parts {
