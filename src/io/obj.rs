@@ -72,7 +72,7 @@ fn read(path: &Path, geometry_only: bool) -> Result<ObjMesh, Error> {
 /// Writes a mesh with one uv per vertex: `v` lines, one `vt` per vertex, `f a/a b/b c/c`. A uv
 /// with a NaN (or infinite) coordinate is written as `vt 0 0` after a comment saying so.
 pub fn write_obj_with_uv(path: &Path, positions: &[f64], triangles: &[u32], uv: &[[f64; 2]]) -> Result<(), Error> {
-    let vertices = validate_positions(positions)?;
+    let vertices = validate_positions(positions, triangles)?;
     if uv.len() != vertices {
         return Err(Error::InvalidArgument(format!(
             "{} uv coordinates for {vertices} vertices; per-vertex uv needs one per vertex",
@@ -92,7 +92,7 @@ pub fn write_obj_with_corner_uv(
     uv: &[[f64; 2]],
     uv_triangles: &[u32],
 ) -> Result<(), Error> {
-    let vertices = validate_positions(positions)?;
+    let vertices = validate_positions(positions, triangles)?;
     validate_triangles(triangles, vertices, "vertex")?;
     if uv_triangles.len() != triangles.len() {
         return Err(Error::InvalidArgument(format!(
@@ -366,14 +366,26 @@ fn inside_or_on(ring: &[[f64; 3]], normal: [f64; 3], tri: [usize; 3], v: usize) 
 // ---------------------------------------------------------------------------------------------
 // Writing
 
-fn validate_positions(positions: &[f64]) -> Result<usize, Error> {
+/// The vertex count of `positions`, refusing a non-finite coordinate on a vertex `triangles`
+/// use. A vertex no triangle uses is written as it was read (the reader keeps every `v` line,
+/// `nan` included, and the meshes allow unreferenced vertices).
+fn validate_positions(positions: &[f64], triangles: &[u32]) -> Result<usize, Error> {
     if positions.len() % 3 != 0 {
         return Err(Error::InvalidArgument(format!("positions has {} numbers, not a multiple of 3", positions.len())));
     }
-    if let Some(i) = positions.iter().position(|x| !x.is_finite()) {
-        return Err(Error::InvalidArgument(format!("vertex {} has a non-finite coordinate ({})", i / 3, positions[i])));
+    let count = positions.len() / 3;
+    if positions.iter().any(|x| !x.is_finite()) {
+        let mut used = vec![false; count];
+        triangles.iter().filter(|&&v| (v as usize) < count).for_each(|&v| used[v as usize] = true);
+        if let Some(i) = (0..positions.len()).find(|&i| !positions[i].is_finite() && used[i / 3]) {
+            return Err(Error::InvalidArgument(format!(
+                "vertex {} has a non-finite coordinate ({})",
+                i / 3,
+                positions[i]
+            )));
+        }
     }
-    Ok(positions.len() / 3)
+    Ok(count)
 }
 
 fn validate_triangles(indices: &[u32], count: usize, kind: &str) -> Result<(), Error> {
@@ -678,6 +690,17 @@ mod tests {
     }
 
     #[test]
+    fn an_unused_vertex_with_a_nan_coordinate_round_trips() {
+        let path = scratch_file("unused-nan.obj");
+        let positions = [0.0, 0.0, 0.0, f64::NAN, 5.0, 5.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        write_obj_with_uv(&path, &positions, &[0, 2, 3], &[[0.0, 0.0]; 4]).unwrap();
+        let mesh = read_obj(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert!(mesh.positions[3].is_nan() && mesh.positions[4] == 5.0);
+        assert_eq!(mesh.triangles, [0, 2, 3]);
+    }
+
+    #[test]
     fn writers_reject_inconsistent_arrays() {
         let path = scratch_file("never-written.obj");
         let positions = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
@@ -688,6 +711,7 @@ mod tests {
         assert!(write_obj_with_uv(&path, &positions[..8], &[0, 1, 2], &uv).is_err());
         let nan = [0.0, 0.0, 0.0, 1.0, f64::NAN, 0.0, 0.0, 1.0, 0.0];
         assert!(write_obj_with_uv(&path, &nan, &[0, 1, 2], &uv).is_err());
+        // (A NaN on a vertex no triangle uses is written as read: see the next test.)
         assert!(write_obj_with_corner_uv(&path, &positions, &[0, 1, 2], &uv, &[0, 1]).is_err());
         assert!(write_obj_with_corner_uv(&path, &positions, &[0, 1, 2], &uv, &[0, 1, 3]).is_err());
         assert!(!path.exists());
