@@ -43,7 +43,7 @@ pub mod linalg;
 pub mod mesh;
 pub mod methods;
 pub mod metrics;
-pub mod parallel;
+pub(crate) mod parallel;
 pub mod progress;
 
 pub use boundary::{BoundaryShape, Distribution};

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 /// Inputs with fewer items than this run sequentially (rayon's splitting would not give them
 /// more than one task of this size anyway).
-pub const SEQUENTIAL_BELOW: usize = 4096;
+pub(crate) const SEQUENTIAL_BELOW: usize = 4096;
 
 /// `rayon::join(a, b)` for `items` items of work, or `a` then `b` on this thread below
 /// [`SEQUENTIAL_BELOW`].
