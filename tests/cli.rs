@@ -621,3 +621,20 @@ fn negative_weights_parse_and_options_a_method_ignores_are_refused() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("--sweeps"), "{}", stderr(&o));
 }
+
+#[test]
+fn a_nearly_collapsed_uv_triangle_is_warned_about() {
+    // Two unit right triangles; the second's UV triangle has 1e-6 of the first's area.
+    let input = scratch("collapsed.obj");
+    std::fs::write(
+        &input,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.500001\nf 1/1 2/2 3/3\nf 2/2 4/4 3/3\n",
+    )
+    .unwrap();
+    let o = uvflat(&["metrics", input.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("nearly degenerate"), "{}", stderr(&o));
+    std::fs::write(&input, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n").unwrap();
+    let fine = uvflat(&["metrics", input.to_str().unwrap()]);
+    assert!(fine.status.success() && !stderr(&fine).contains("warning"), "{}", stderr(&fine));
+}

@@ -418,13 +418,13 @@ const METHODS: [(MethodName, &str, &str); 19] = [
         "free boundary, natural conformal map = LSCM (Desbrun et al. 2002 eq. 7); the default",
     ),
     (MethodName::Slim, "slim", "free boundary, symmetric Dirichlet by SLIM (Rabinovich et al. 2017); never flips"),
-    (MethodName::Arap, "arap", "free boundary, as-rigid-as-possible local-global (Liu et al. 2008); never flips"),
+    (MethodName::Arap, "arap", "free boundary, as-rigid-as-possible local-global (Liu et al. 2008); never flips, but no barrier against a triangle shrinking towards zero area"),
     (MethodName::Mips, "mips", "free boundary, MIPS conformal energy (Hormann & Greiner 2000); never flips"),
     (MethodName::Stretch, "stretch", "free boundary, L2 stretch (Sander et al. 2001); never flips"),
     (
         MethodName::GreenLagrange,
         "green-lagrange",
-        "free boundary, Green-Lagrange tensor (Maillot et al. 1993); never flips",
+        "free boundary, Green-Lagrange tensor (Maillot et al. 1993); never flips, but no barrier against a triangle shrinking towards zero area",
     ),
     (MethodName::Degener, "degener", "free boundary, Degener et al. 2003 angle x area^theta energy; never flips"),
     (MethodName::Abf, "abf", "free boundary, angle based flattening, full Newton (Sheffer & de Sturler 2001)"),
@@ -1601,7 +1601,21 @@ fn print_metrics(path: &Path, json: bool) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Area ratio (UV over 3D, both scaled to the same total) beyond which a triangle is reported as
+/// collapsed or blown up: energies without a barrier (ARAP, Green–Lagrange) can shrink a
+/// triangle to 1e-9 of its share without flipping it (disk_cat_head with green-lagrange: L2
+/// stretch 3e5).
+const EXTREME_AREA_RATIO: f64 = 1e4;
+
 fn print_metrics_text(m: &Metrics) {
+    if m.area_max > EXTREME_AREA_RATIO.ln() {
+        eprintln!(
+            "uvflat: warning: a triangle's UV area is {:.0e} times off its share of the surface's (|log| {:.1}); the \
+             map is valid but nearly degenerate there",
+            m.area_max.exp(),
+            m.area_max
+        );
+    }
     println!("  triangles               {}", m.triangles);
     println!("  flipped                 {}", m.flipped);
     println!("  degenerate uv           {}", m.degenerate_uv);
