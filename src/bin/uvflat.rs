@@ -896,9 +896,7 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
     if args.quad_svg.is_some() && args.quad_mesh.is_none() {
         return Err(usage("--quad-svg needs --quad-mesh"));
     }
-    if !(args.quad_density >= 1.0 && args.quad_density.fract() == 0.0) {
-        return Err(usage(format!("--quad-density must be a whole number >= 1 (got {})", args.quad_density)));
-    }
+    check_density("--quad-density", args.quad_density)?;
     check_outputs(&[
         ("-o", Some(&args.output)),
         ("--svg", args.svg.as_deref()),
@@ -1008,6 +1006,15 @@ fn quad_cover(args: &QuadCoverArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Lines per period or per grid unit: a whole number ≥ 1 (checked before any work).
+fn check_density(flag: &str, value: f64) -> Result<(), Failure> {
+    if value >= 1.0 && value.fract() == 0.0 {
+        Ok(())
+    } else {
+        Err(usage(format!("{flag} must be a whole number >= 1 (got {value})")))
+    }
+}
+
 /// Refuses, before any work, output files that could not all be written or would overwrite
 /// one another: two options naming one file, a path that is a directory, a directory that does
 /// not exist. (Writing the main OBJ and then failing on a side output left a partial result.)
@@ -1070,12 +1077,8 @@ fn periodic(args: &PgpArgs) -> Result<(), Failure> {
     if args.quad_svg.is_some() && args.quad_mesh.is_none() {
         return Err(usage("--quad-svg needs --quad-mesh"));
     }
-    if !(args.quad_density >= 1.0 && args.quad_density.fract() == 0.0) {
-        return Err(usage(format!("--quad-density must be a whole number >= 1 (got {})", args.quad_density)));
-    }
-    if !(args.chart_density >= 1.0 && args.chart_density.fract() == 0.0) {
-        return Err(usage(format!("--chart-density must be a whole number >= 1 (got {})", args.chart_density)));
-    }
+    check_density("--quad-density", args.quad_density)?;
+    check_density("--chart-density", args.chart_density)?;
     check_outputs(&[
         ("-o", Some(&args.output)),
         ("--svg", args.svg.as_deref()),
