@@ -117,6 +117,12 @@ class _Job:
         self.uv: Optional[np.ndarray] = None
         self.holes = True  # whether it may have more than one boundary loop (False once known)
 
+    def with_pin_uv(self, pin_uv: np.ndarray) -> "_Job":
+        """The same job with its pins at ``pin_uv`` (the island and what is known of it kept)."""
+        job = _Job(self.obj_index, self.island, self.pin_vertices, pin_uv)
+        job.holes = self.holes
+        return job
+
     @staticmethod
     def of(obj_index: int, island: isl.Island, uv: np.ndarray, pinned: np.ndarray) -> "_Job":
         """The job of an island, with its pinned vertices and their current UVs."""
@@ -300,9 +306,7 @@ class UnwrapRun:
         in square UV space: pinned UVs are taken out of the image's aspect ratio first and the
         result is put back into it (as the free islands' layout does)."""
         aspect = self.meshes[job.obj_index][5]
-        square = _Job(job.obj_index, job.island, job.pin_vertices, to_square(job.pin_uv, aspect))
-        square.holes = job.holes
-        uv, unenforced = self._solve_square(square, progress)
+        uv, unenforced = self._solve_square(job.with_pin_uv(to_square(job.pin_uv, aspect)), progress)
         return (from_square(uv, aspect) if len(job.pin_vertices) else uv), unenforced
 
     def _solve_square(self, job: _Job, progress: Callable[[float], bool]) -> Tuple[np.ndarray, int]:
