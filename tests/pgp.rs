@@ -430,6 +430,30 @@ fn check_forced_singular_triangles(file: &str, mesh: &TriMesh, r: &uvflat::metho
     );
 }
 
+/// A vertex whose first edge runs along its normal: the corner tetrahedron's apex (0, 2, 0) has
+/// normal (0, 1, 0) and its edge to the origin too. The smoothing's reference direction there
+/// was that edge's tangent part, zero, so the smoothed field was zero at the apex and Algorithm 1
+/// closed a triangle whose normals turn by 150° (3 open triangles were "fewest possible", 2 were
+/// open). Every field vector must be a unit tangent vector and the bound must hold, whatever
+/// the symmetry.
+#[test]
+fn a_vertex_whose_first_edge_runs_along_its_normal_gets_a_tangent_field() {
+    let points = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]];
+    let mesh = TriMesh::new(points.as_flattened(), &[0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]).unwrap();
+    for symmetry in [Symmetry::Vector, Symmetry::Line, Symmetry::Cross] {
+        let smoothing = Some(SmoothingOptions { symmetry, ..SmoothingOptions::default() });
+        let r = pgp(&mesh, &PgpOptions { smoothing, ..PgpOptions::default() }, &mut Progress::none()).unwrap();
+        for (v, (k, n)) in r.field.iter().zip(&r.normals).enumerate() {
+            assert!(norm(*k) > 0.5, "{symmetry:?}: field vector {v} is {k:?}");
+            assert!(
+                dot(*k, *n).abs() < 1e-9 * norm(*k),
+                "{symmetry:?}: field vector {v} {k:?} leaves the tangent plane"
+            );
+        }
+        check_forced_singular_triangles(&format!("corner tetrahedron, {symmetry:?}"), &mesh, &r);
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Quad-dominant remesh (§5): quads, manifold, on the surface
 
@@ -600,7 +624,7 @@ fn dislocation_annihilation_brings_the_coarse_knight_within_the_papers_range() {
     // periodic solve adds dislocations: open triangles where the matching closes but θ or φ
     // winds by a period. Without the annihilation 36 / 36 singular triangles (3.6%, PGP /
     // ccPGP); annihilating opposite pairs and moving lone ones into a nearby singular triangle
-    // of the field (the default, 1.5 periods) leaves 30 / 28 (README). Every kept change
+    // of the field (the default, 1.5 periods) leaves 29 / 29 (README). Every kept change
     // removes at least one singular triangle, the field's own singular triangles stay, and
     // Hopf–Poincaré still holds.
     let mesh = load("closed_g0_decimated_knight.obj");
@@ -615,7 +639,10 @@ fn dislocation_annihilation_brings_the_coarse_knight_within_the_papers_range() {
             100.0 * q.singular_triangle_fraction
         );
         assert_eq!(kept.dislocations, Default::default(), "0 turns the annihilation off");
-        assert!(d.pairs + d.absorbed > 0 && 2 * d.pairs + d.absorbed <= d.before, "{d:?}");
+        // Each kept change removes a dislocation found in its round; a later round can also
+        // move dislocations that an earlier change left elsewhere, so the changes are not
+        // bounded by `before`, but each one removes at least one singular triangle (below).
+        assert!(d.before > 0 && d.pairs + d.absorbed > 0, "{d:?}");
         let removed = 2 * d.pairs + d.absorbed;
         assert!(r.singularities.triangles.len() + removed <= kept.singularities.triangles.len() + 1, "{d:?}");
         assert!(q.singular_triangle_fraction <= 0.03, "{:.2}%", 100.0 * q.singular_triangle_fraction);

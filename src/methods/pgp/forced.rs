@@ -41,8 +41,9 @@
 //!
 //! Cost: O(F log F).
 
+use super::curvature::tangent_basis;
 use super::frames::{match_rotation, normalized, rotate_quarter, tangent_part, transport, wrap_angle};
-use crate::geometry::{cross, dot, sub};
+use crate::geometry::{cross, dot};
 use crate::mesh::connectivity::NONE;
 use crate::TriMesh;
 use std::f64::consts::FRAC_PI_2;
@@ -174,8 +175,9 @@ pub fn has_antipodal_edge(mesh: &TriMesh, normals: &[[f64; 3]], t: usize) -> boo
 pub fn triangle_holonomy(mesh: &TriMesh, normals: &[[f64; 3]], t: usize) -> f64 {
     let tri = mesh.triangles()[t];
     let n = tri.map(|v| normals[v as usize]);
-    let p = tri.map(|v| mesh.points()[v as usize]);
-    let start = normalized(tangent_part(sub(p[1], p[0]), n[0]));
+    // Any tangent vector at corner 0 turns by the same angle (the loop of transports is a
+    // rotation about n0); the edge to corner 1 can run along n0 and have none.
+    let start = tangent_basis(n[0]).0;
     let around = transport(transport(transport(start, n[0], n[1]), n[1], n[2]), n[2], n[0]);
     wrap_angle(dot(cross(start, around), n[0]).atan2(dot(start, around)))
 }

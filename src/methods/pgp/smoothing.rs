@@ -32,6 +32,7 @@
 //!
 //! Cost: one 2V × 2V factorization per Newton iteration.
 
+use super::curvature::tangent_basis;
 use super::curvature::PrincipalCurvatures;
 use super::frames::{
     edge_sum_form, match_rotation, normalized, project_semidefinite, rotate_quarter, tangent_part, transport,
@@ -175,17 +176,40 @@ pub fn face_directions(mesh: &TriMesh, normals: &[[f64; 3]], field: &[[f64; 3]],
         .collect()
 }
 
-/// H_i: the first outgoing edge of each vertex, projected on its tangent plane and normalized.
+/// H_i: the first outgoing edge of each vertex, projected on its tangent plane and normalized,
+/// unless that edge runs along the normal (its tangent part under [`MIN_TANGENT_PART`] of its
+/// length, mostly rounding); then the outgoing edge that lies the most in the tangent plane, and
+/// any tangent direction where no edge has a tangent part. (The smoothed field is the same for
+/// every choice, up to rounding and the solver's tolerance; the first edge alone can run along
+/// the normal: on the tetrahedron (0,0,0), (2,0,0), (0,2,0), (0,0,2) the vertex normal at
+/// (0,2,0) is (0,1,0) and so is its first edge, and the smoothed field came out zero there, as
+/// at axis-aligned vertices of `closed_g133_cheese`.)
 pub fn reference_directions(mesh: &TriMesh, normals: &[[f64; 3]]) -> Vec<[f64; 3]> {
-    (0..mesh.vertex_count() as u32)
-        .map(|v| match mesh.outgoing_halfedges(v).next() {
-            Some(h) => {
-                let e = sub(mesh.points()[mesh.head(h) as usize], mesh.points()[v as usize]);
-                normalized(tangent_part(e, normals[v as usize]))
-            }
-            None => [0.0; 3],
-        })
-        .collect()
+    (0..mesh.vertex_count() as u32).map(|v| reference_direction(mesh, normals[v as usize], v)).collect()
+}
+
+/// Smallest tangent part of the first outgoing edge, relative to its length, kept as H_i.
+const MIN_TANGENT_PART: f64 = 1e-6;
+
+fn reference_direction(mesh: &TriMesh, n: [f64; 3], v: u32) -> [f64; 3] {
+    let p = mesh.points()[v as usize];
+    let mut tangents = mesh.outgoing_halfedges(v).map(|h| {
+        let e = sub(mesh.points()[mesh.head(h) as usize], p);
+        (tangent_part(e, n), norm(e))
+    });
+    let Some((first, length)) = tangents.next() else { return [0.0; 3] };
+    if norm(first) >= MIN_TANGENT_PART * length {
+        return normalized(first);
+    }
+    let share = |(t, l): (_, f64)| if l > 0.0 { norm(t) / l } else { 0.0 };
+    let best = tangents.fold((first, length), |best, e| if share(e) > share(best) { e } else { best }).0;
+    if norm(best) > 0.0 {
+        normalized(best)
+    } else if norm(n) > 0.0 {
+        tangent_basis(n).0
+    } else {
+        [0.0; 3]
+    }
 }
 
 /// Angle from `h` to `k` counter-clockwise about `n`.
