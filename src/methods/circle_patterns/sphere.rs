@@ -73,7 +73,10 @@ pub fn circle_pattern_sphere_map(
 
 /// The turning angles κ_a of step 2 at the link vertices a of `s` (pairs (a, κ_a)).
 fn link_turning_angles(mesh: &TriMesh, s: u32) -> Vec<(u32, f64)> {
-    let mut kappa: Vec<(u32, f64)> = spoke_opposite_angles(mesh, s).into_iter().map(|(a, o)| (a, PI - o)).collect();
+    let mut kappa: Vec<(u32, f64)> = spoke_opposite_angles(mesh, s)
+        .into_iter()
+        .map(|(a, o)| (a, if (PI - o).abs() <= STRAIGHT_CORNER { 0.0 } else { PI - o }))
+        .collect();
     let total: f64 = kappa.iter().map(|k| k.1).sum();
     for k in kappa.iter_mut() {
         k.1 *= TAU / total;
@@ -102,23 +105,30 @@ fn spoke_opposite_angles(mesh: &TriMesh, s: u32) -> Vec<(u32, f64)> {
 
 /// The pole s: the vertex whose scaled turning angles (step 2) have the smallest maximum, so
 /// that the link polygon is as regular (and as far from a reflex corner) as possible; the
-/// lowest index on ties. Errors when no vertex gives every link vertex a turning angle in
-/// (0, π) (no convex link polygon exists).
+/// lowest index on ties. A link vertex may turn by 0 (a straight corner: its spoke's two
+/// triangles are cocircular, as every diagonal of a grid of squares), but a pole whose link
+/// turns strictly at every vertex is preferred. Errors when no vertex gives every link vertex a
+/// turning angle in [0, π) (no convex link polygon exists).
 fn pole_vertex(mesh: &TriMesh) -> Result<u32> {
-    let mut best: Option<(f64, u32)> = None;
+    let mut best: Option<((bool, f64), u32)> = None;
     for v in (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_referenced(v)) {
         let kappa = link_turning_angles(mesh, v);
         let (lo, hi) = kappa.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), k| (lo.min(k.1), hi.max(k.1)));
-        if lo > 0.0 && hi < PI && best.is_none_or(|(b, _)| hi < b) {
-            best = Some((hi, v));
+        let key = (lo <= STRAIGHT_CORNER, hi);
+        if lo >= -STRAIGHT_CORNER && hi < PI && best.is_none_or(|(b, _)| key < b) {
+            best = Some((key, v));
         }
     }
     best.map(|(_, v)| v).ok_or_else(|| {
         Error::Numerical(
-            "circle patterns on the sphere: no vertex's link can be laid out as a convex polygon (every vertex has a spoke whose opposite angles sum to π or more)".into(),
+            "circle patterns on the sphere: no vertex's link can be laid out as a convex polygon (every vertex has a spoke whose opposite angles sum to more than π)".into(),
         )
     })
 }
+
+/// Turning angles within this of 0 (radians) count as a straight corner: the rounding of two
+/// 3D angles that sum to π.
+const STRAIGHT_CORNER: f64 = 1e-9;
 
 /// A third of the 3D area of the triangles around every vertex.
 fn vertex_areas(mesh: &TriMesh) -> Vec<f64> {
@@ -249,6 +259,61 @@ mod tests {
                 .map(|&a| ring.iter().filter(|&&b| b != a).map(|&b| dot(s[a], s[b])).fold(f64::MIN, f64::max))
                 .collect();
             assert!(spacing.iter().all(|x| (x - spacing[0]).abs() < 1e-9), "{spacing:?}");
+        }
+    }
+
+    /// A cube whose faces are `n` × `n` grids of squares, each split along the same diagonal,
+    /// oriented outward: every diagonal's two triangles are cocircular (opposite angles 90° +
+    /// 90°), so every link has a straight corner.
+    fn grid_cube(n: usize) -> TriMesh {
+        let mut index = std::collections::HashMap::new();
+        let (mut points, mut triangles) = (Vec::<[f64; 3]>::new(), Vec::new());
+        let mut vertex = |p: [f64; 3]| -> u32 {
+            let key = p.map(|x| (x * 1e6).round() as i64);
+            *index.entry(key).or_insert_with(|| {
+                points.push(p);
+                points.len() as u32 - 1
+            })
+        };
+        for axis in 0..3 {
+            for sign in [-1.0, 1.0] {
+                let at = |a: usize, b: usize| {
+                    let mut p = [0.0; 3];
+                    p[axis] = sign;
+                    p[(axis + 1) % 3] = -1.0 + 2.0 * a as f64 / n as f64;
+                    p[(axis + 2) % 3] = -1.0 + 2.0 * b as f64 / n as f64;
+                    p
+                };
+                for i in 0..n {
+                    for j in 0..n {
+                        let q = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)].map(&mut vertex);
+                        let quad = if sign > 0.0 {
+                            [q[0], q[1], q[2], q[0], q[2], q[3]]
+                        } else {
+                            [q[0], q[2], q[1], q[0], q[3], q[2]]
+                        };
+                        triangles.extend(quad);
+                    }
+                }
+            }
+        }
+        let flat: Vec<f64> = points.iter().flatten().copied().collect();
+        TriMesh::new(&flat, &triangles).unwrap()
+    }
+
+    #[test]
+    fn a_subdivided_cube_whose_links_all_have_straight_corners_maps_without_flips() {
+        // Before straight corners were allowed, no pole qualified ("no vertex's link can be laid
+        // out as a convex polygon") although the grid is the intrinsic Delaunay triangulation.
+        // (The plain 12-triangle cube, n = 1, still fails: its disk's layout cannot be factored.)
+        for n in [2, 3, 4, 9] {
+            let mesh = grid_cube(n);
+            assert_eq!(mesh.vertex_count(), 6 * n * n + 2);
+            let s = sphere_of(&mesh);
+            assert!(s.iter().all(|p| (crate::geometry::norm(*p) - 1.0).abs() < 1e-9), "n = {n}");
+            let flipped = crate::methods::sphere::count_spherical_flips(&s, mesh.triangles());
+            // Not yet oriented outward: all triangles one way.
+            assert!(flipped == 0 || flipped == mesh.triangle_count(), "n = {n}: {flipped} flipped");
         }
     }
 
