@@ -189,11 +189,13 @@ fn abf_converges_on_closed_meshes_cut_to_disks() {
     }
 }
 
-/// The reconstruction depends only on the shapes of the triangles: scaling each angle triple by
-/// its own factor (so that it no longer sums to π, as when the iteration stops short) gives the
-/// same layout, and on a flat mesh that layout is the mesh itself up to a similarity.
+/// Angles cut off before the triangle constraints hold are laid out as triangle shapes (each
+/// triple scaled to sum to π, `triangle_shapes`, which `abf` applies to unconverged angles):
+/// scaling every triple of a flat mesh by its own factor gives the same layout as its exact
+/// angles, the mesh itself up to a similarity, where the raw scaled triples make the layout
+/// system indefinite.
 #[test]
-fn the_reconstruction_uses_only_the_triangle_shapes() {
+fn unconverged_angles_are_laid_out_as_triangle_shapes() {
     // A flat 20 × 20 grid with jittered interior vertices, each square split along a diagonal.
     let n = 20;
     let jitter = |i: usize, j: usize, k: usize| {
@@ -223,7 +225,9 @@ fn the_reconstruction_uses_only_the_triangle_shapes() {
         exact.iter().enumerate().map(|(t, a)| a.map(|x| x * (0.8 + 0.4 * ((t * 7919) % 101) as f64 / 100.0))).collect();
     let pins = uvflat::methods::conformal::resolve_pins(&mesh, None).expect("pins");
     let a = uvflat::methods::abf::reconstruct_uv(&mesh, &exact, pins).expect("exact angles");
-    let b = uvflat::methods::abf::reconstruct_uv(&mesh, &scaled, pins).expect("scaled angles");
+    assert!(uvflat::methods::abf::reconstruct_uv(&mesh, &scaled, pins).is_err(), "raw scaled triples");
+    let shapes = uvflat::methods::abf::triangle_shapes(&scaled);
+    let b = uvflat::methods::abf::reconstruct_uv(&mesh, &shapes, pins).expect("scaled angles");
     let max = a.iter().zip(&b).map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1])).fold(0.0, f64::max);
     assert!(max < 1e-9 * n as f64, "layouts differ by {max}");
     let flat = distortion(mesh.points(), mesh.triangles(), &b, mesh.triangles()).expect("metrics");

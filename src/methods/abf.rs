@@ -218,7 +218,8 @@ pub fn abf(mesh: &TriMesh, options: &AbfOptions) -> Result<AbfResult> {
 pub fn abf_with_progress(mesh: &TriMesh, options: &AbfOptions, progress: &mut Progress) -> Result<AbfResult> {
     let pins = resolve_pins(mesh, options.pins)?;
     let solution = optimize_angles(mesh, options, progress)?;
-    let uv = reconstruct_uv(mesh, &solution.angles, pins)?;
+    let angles = if solution.report.converged { solution.angles } else { triangle_shapes(&solution.angles) };
+    let uv = reconstruct_uv(mesh, &angles, pins)?;
     progress.report(1.0)?;
     Ok(AbfResult { uv, report: solution.report })
 }
@@ -287,12 +288,10 @@ pub fn optimize_angles(mesh: &TriMesh, options: &AbfOptions, progress: &mut Prog
 }
 
 /// ABF++ §5: the uv layout whose triangles are as similar as possible (least squares, LSCM
-/// style) to the triangles with the given angles, two vertices pinned. Each triple is first
-/// scaled to sum to π (a no-op on converged angles): the energy of a triangle is then the
-/// conformal energy of a map from a real triangle, never negative, so the system is positive
-/// semi-definite even when the angle iteration stopped short of its constraints (with triples
-/// off π an obtuse corner's negative cotangent can make it indefinite and the factorization
-/// fail).
+/// style) to the triangles with the given angles, two vertices pinned. With every triple in
+/// (0, π) and summing to π the energy of each triangle is the conformal energy of a map from a
+/// real triangle, never negative, and the system is positive semi-definite; with triples off π
+/// an obtuse corner's negative cotangent can make it indefinite (see [`triangle_shapes`]).
 pub fn reconstruct_uv(mesh: &TriMesh, angles: &[[f64; 3]], pins: [Pin; 2]) -> Result<Vec<[f64; 2]>> {
     if angles.len() != mesh.triangle_count() {
         return Err(Error::InvalidArgument(format!(
@@ -301,13 +300,21 @@ pub fn reconstruct_uv(mesh: &TriMesh, angles: &[[f64; 3]], pins: [Pin; 2]) -> Re
             mesh.triangle_count()
         )));
     }
-    let cot: Vec<[f64; 3]> =
-        angles.iter().map(|a| a.map(|x| x * PI / (a[0] + a[1] + a[2])).map(|x| x.cos() / x.sin())).collect();
+    let cot: Vec<[f64; 3]> = angles.iter().map(|a| a.map(|x| x.cos() / x.sin())).collect();
     require_finite(cot.iter().flatten().copied(), "ABF angle")?;
     let mut system = ConformalSystem::with_cotangents(mesh, &pins, &cot)?;
     let coords = system.unknowns.positions(mesh);
     crate::linalg::CholeskySolver::new(&system.matrix, Some(&coords))?.solve_in_place(&mut system.rhs)?;
     system.uv(mesh)
+}
+
+/// Each angle triple scaled to sum to π: the shapes of real triangles, for the layout of angles
+/// that stopped short of the triangle constraints (an iteration cut off by `max_iterations`),
+/// whose layout system could otherwise be indefinite. Converged angles are laid out as they
+/// are: scaling them moves the vertex sums the seams of cone maps depend on (circle patterns
+/// share the layout).
+pub fn triangle_shapes(angles: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    angles.iter().map(|a| a.map(|x| x * PI / (a[0] + a[1] + a[2]))).collect()
 }
 
 /// The optimal angles, weights and constraint layout of one mesh.
