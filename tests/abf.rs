@@ -11,6 +11,9 @@
 //! the papers' own objective two meshes miss a claim (see the README's ABF++ section and the
 //! module comment of `methods::abf`), which the last tests document.
 
+#[path = "common/surfaces.rs"]
+mod surfaces;
+
 use std::path::Path;
 use uvflat::error::Error;
 use uvflat::methods::abf::{abf, abf_with_progress, optimize_angles, AbfOptions, AbfVariant, AbfWeights};
@@ -196,7 +199,7 @@ fn abf_converges_on_closed_meshes_cut_to_disks() {
 /// system indefinite.
 #[test]
 fn unconverged_angles_are_laid_out_as_triangle_shapes() {
-    // A flat 20 × 20 grid with jittered interior vertices, each square split along a diagonal.
+    // A flat 20 × 20 grid with jittered interior vertices.
     let n = 20;
     let jitter = |i: usize, j: usize, k: usize| {
         let inside = i > 0 && i < n && j > 0 && j < n;
@@ -212,14 +215,7 @@ fn unconverged_angles_are_laid_out_as_triangle_shapes() {
             positions.extend([i as f64 + jitter(i, j, 0), j as f64 + jitter(i, j, 1), 0.0]);
         }
     }
-    let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-    let mut triangles = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            triangles.extend([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    let mesh = TriMesh::new(&positions, &triangles).expect("grid");
+    let mesh = TriMesh::new(&positions, &surfaces::grid_triangles(n, n, false, false)).expect("grid");
     let exact: Vec<[f64; 3]> = mesh.corner_angles().to_vec();
     let scaled: Vec<[f64; 3]> =
         exact.iter().enumerate().map(|(t, a)| a.map(|x| x * (0.8 + 0.4 * ((t * 7919) % 101) as f64 / 100.0))).collect();

@@ -15,7 +15,7 @@ pub struct Sampled {
 
 /// Quads of a `nu × nv` grid split along alternating diagonals; `wrap_u`/`wrap_v` close the
 /// grid in that direction. Vertex (i, j) has index `j * cols + i`.
-fn grid_triangles(nu: usize, nv: usize, wrap_u: bool, wrap_v: bool) -> Vec<u32> {
+pub fn grid_triangles(nu: usize, nv: usize, wrap_u: bool, wrap_v: bool) -> Vec<u32> {
     let cols = if wrap_u { nu } else { nu + 1 };
     let rows = if wrap_v { nv } else { nv + 1 };
     let id = |i: usize, j: usize| ((j % rows) * cols + (i % cols)) as u32;
