@@ -305,7 +305,9 @@ mod tests {
     fn a_subdivided_cube_whose_links_all_have_straight_corners_maps_without_flips() {
         // Before straight corners were allowed, no pole qualified ("no vertex's link can be laid
         // out as a convex polygon") although the grid is the intrinsic Delaunay triangulation.
-        // (The plain 12-triangle cube, n = 1, still fails: its disk's layout cannot be factored.)
+        // (The plain 12-triangle cube, n = 1, still fails, in the pattern's solve before the
+        // layout: "not positive definite"; every face is one square whose diagonal has
+        // intersection angle π, where the pattern's energies lose their curvature.)
         for n in [2, 3, 4, 9] {
             let mesh = grid_cube(n);
             assert_eq!(mesh.vertex_count(), 6 * n * n + 2);
