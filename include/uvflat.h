@@ -380,9 +380,10 @@
  * Default Newton iteration limit of the periodic solve: a safeguard, Newton normally stops
  * earlier at ‖∇F**‖ < 10⁻⁶ (the paper's criterion). At ε = [`PERIODIC_EPSILON`] the singular
  * points drift apart slowly after the first few iterations: with the damped steps (module
- * comment) the tolerance takes 5–80 iterations on all 15 closed meshes of `../shared/meshes`
- * with and without curl correction (bunny 9, cow 15, man 28, spot 30, kitten 42, nefertiti 52,
- * armadillo 80; the paper needed ≤ 5 at its ε). Each iteration is one or two factorizations: on the 207k-face disk of
+ * comment) the tolerance takes 3–78 iterations on the 15 closed meshes of `../shared/meshes`
+ * with and without curl correction, all but the mesh torus without it, which reaches the limit
+ * (2026-12-06: bob 6, knight 11, cow 20, bunny 27, man 33, armadillo 49, kitten 69, nefertiti
+ * 78 without curl correction; the paper needed ≤ 5 at its ε). Each iteration is one or two factorizations: on the 207k-face disk of
  * `benches/pgp.rs` the whole pipeline converges (51 iterations) in 35–37 s on this shared
  * 2-core machine, against the issue's 60 s. A smaller limit trades the last digits of the
  * gradient for time: the singular triangles change by at most 0.5 points after 10 iterations
@@ -1445,8 +1446,10 @@ typedef struct UvfPgpOptions {
   double gradient_tolerance;
   /**
    * Newton iteration limit (default 100, a safeguard: Newton stops once ‖∇F**‖ < 1e-6, within
-   * 5–80 iterations on the meshes measured, 51 and 35–37 s for a 207k-face mesh; 10 is about
-   * 3× faster with nearly the same singularities, see the README).
+   * 3–78 iterations in 29 of the 30 runs of the README's closed-mesh table — the mesh torus
+   * without curl correction reaches the limit, `converged` = 0 — and 62 iterations, about 40 s,
+   * for a 207k-face mesh; 10 is about 3× faster with nearly the same singularities, see the
+   * README).
    */
   uint32_t max_newton_iterations;
   /**

@@ -171,7 +171,8 @@ struct PgpArgs {
     #[arg(long, value_enum, default_value_t = SmoothName::HalfPi)]
     smooth: SmoothName,
     /// Newton iterations of the periodic solve (§2.5; stops earlier once the gradient norm is
-    /// below 1e-6, within 5–80 iterations on the meshes measured). 10 is about 3× faster with
+    /// below 1e-6, within 3–78 iterations on the meshes measured but one: the mesh torus without
+    /// curl correction reaches 100). 10 is about 3× faster with
     /// nearly the same singularities (see the README).
     #[arg(long = "newton-iterations", default_value_t = uvflat::methods::pgp::solver::PERIODIC_ITERATIONS)]
     newton_iterations: usize,

@@ -737,8 +737,8 @@ pub unsafe extern "C" fn uvf_boundary_optimized_map(
                     iterations: r.iterations as u32,
                     converged: u32::from(r.converged),
                     history_length: r.history.len(),
-                    initial_energy: r.history[0],
-                    final_energy: *r.history.last().unwrap_or(&r.history[0]),
+                    initial_energy: r.history.first().copied().unwrap_or(f64::NAN),
+                    final_energy: r.history.last().copied().unwrap_or(f64::NAN),
                     boundary_scale: r.boundary_scale,
                     flipped: r.flipped,
                 })

@@ -168,8 +168,10 @@ pub struct UvfPgpOptions {
     /// Newton stops when ‖∇F**‖ is below this (default 1e-6).
     pub gradient_tolerance: f64,
     /// Newton iteration limit (default 100, a safeguard: Newton stops once ‖∇F**‖ < 1e-6, within
-    /// 5–80 iterations on the meshes measured, 51 and 35–37 s for a 207k-face mesh; 10 is about
-    /// 3× faster with nearly the same singularities, see the README).
+    /// 3–78 iterations in 29 of the 30 runs of the README's closed-mesh table — the mesh torus
+    /// without curl correction reaches the limit, `converged` = 0 — and 62 iterations, about 40 s,
+    /// for a 207k-face mesh; 10 is about 3× faster with nearly the same singularities, see the
+    /// README).
     pub max_newton_iterations: u32,
     /// Curvature neighbourhood, as in `UvfCurvatureOptions` (default `UVF_CURVATURE_RINGS`).
     pub curvature_neighbourhood: u32,

@@ -224,9 +224,10 @@ pub const PERIODIC_EPSILON: f64 = 0.1;
 /// Default Newton iteration limit of the periodic solve: a safeguard, Newton normally stops
 /// earlier at ‖∇F**‖ < 10⁻⁶ (the paper's criterion). At ε = [`PERIODIC_EPSILON`] the singular
 /// points drift apart slowly after the first few iterations: with the damped steps (module
-/// comment) the tolerance takes 5–80 iterations on all 15 closed meshes of `../shared/meshes`
-/// with and without curl correction (bunny 9, cow 15, man 28, spot 30, kitten 42, nefertiti 52,
-/// armadillo 80; the paper needed ≤ 5 at its ε). Each iteration is one or two factorizations: on the 207k-face disk of
+/// comment) the tolerance takes 3–78 iterations on the 15 closed meshes of `../shared/meshes`
+/// with and without curl correction, all but the mesh torus without it, which reaches the limit
+/// (2026-12-06: bob 6, knight 11, cow 20, bunny 27, man 33, armadillo 49, kitten 69, nefertiti
+/// 78 without curl correction; the paper needed ≤ 5 at its ε). Each iteration is one or two factorizations: on the 207k-face disk of
 /// `benches/pgp.rs` the whole pipeline converges (51 iterations) in 35–37 s on this shared
 /// 2-core machine, against the 60 s. A smaller limit trades the last digits of the
 /// gradient for time: the singular triangles change by at most 0.5 points after 10 iterations
