@@ -10,12 +10,21 @@
 //   #include <uvflat.hpp>
 //   std::vector<double> uv = uvflat::natural_conformal_map(positions, triangles);
 //   UvfMetrics m = uvflat::metrics(positions, triangles, uv);
+//   uvflat::Pgp pgp(positions, triangles);                     // any genus, no cut
+//   uvflat::PolygonMesh quads = pgp.quad_mesh(8).polygons();  // 8 lines per period
 //
-// Wrapped: fixed-boundary (barycentric) maps, the natural conformal map (LSCM), ABF / ABF++,
-// the non-linear maps (SLIM, ARAP, MIPS, stretch, Green–Lagrange, Degener), the spectral
-// conformal map, circle patterns (free, prescribed or convex boundary; cone maps and automatic
-// cone placement), metrics, the cut to a disk and the boundary editor. Everything else is in
-// the C API (include/uvflat.h), which this header includes.
+// Wrapped: fixed-boundary (barycentric) maps, with point constraints; the natural conformal
+// map (LSCM), with point constraints or any number of pins; the near-optimal and the
+// boundary-optimized intrinsic maps; ABF / ABF++; the non-linear maps (SLIM, ARAP, MIPS,
+// stretch, Green–Lagrange, Degener); the spectral conformal map; circle patterns (free,
+// prescribed, polygon or convex boundary; cone maps and automatic cone placement); spherical
+// maps; principal curvatures; Periodic Global Parameterization (`Pgp`: singularities, the
+// quad-dominant remesh `QuadMesh`, the `ChartLayout` and the per-chart `PgpCharts`);
+// QuadCover and its quad mesh; the chart `Atlas`; metrics, mesh info, boundary loops, triangle
+// components, the cut to a disk and the boundary editor (with its Green-function basis); the
+// version and ABI version — every function of the C API, which this header includes. Library
+// handles are owned by move-only classes whose destructor frees them; a moved-from object's
+// accessors throw uvflat::Error (UVF_INVALID_ARGUMENT).
 #ifndef UVFLAT_HPP
 #define UVFLAT_HPP
 
@@ -26,6 +35,7 @@
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -108,10 +118,52 @@ inline std::size_t count_of(const std::vector<std::uint32_t> &flat, const char *
     return flat.size() / 3;
 }
 
+/// Owns one library handle: move-only, released by `Free` (which ignores NULL) when destroyed
+/// or assigned over. The classes below hold one; their implicit moves move it.
+template <class T, void (*Free)(T *)> class Handle {
+  public:
+    Handle() = default;
+    explicit Handle(T *handle) noexcept : handle_(handle) {}
+    Handle(const Handle &) = delete;
+    Handle &operator=(const Handle &) = delete;
+    Handle(Handle &&other) noexcept : handle_(std::exchange(other.handle_, nullptr)) {}
+    Handle &operator=(Handle &&other) noexcept {
+        if (this != &other) {
+            Free(handle_);
+            handle_ = std::exchange(other.handle_, nullptr);
+        }
+        return *this;
+    }
+    ~Handle() { Free(handle_); }
+
+    T *get() const noexcept { return handle_; }
+    /// The slot a C call writes a new handle to; whatever it held is released first.
+    T **out() noexcept {
+        Free(std::exchange(handle_, nullptr));
+        return &handle_;
+    }
+
+  private:
+    T *handle_ = nullptr;
+};
+
+/// Checks that an optional per-element array is empty or holds `per` values for each of
+/// `count` elements.
+template <class T>
+void check_optional_size(const std::vector<T> &values, std::size_t count, std::size_t per, const char *what) {
+    if (!values.empty() && values.size() != per * count) {
+        throw Error(UVF_INVALID_ARGUMENT, std::string(what) + " must be empty or hold " + std::to_string(per * count) +
+                                              " values, but its size is " + std::to_string(values.size()));
+    }
+}
+
 } // namespace detail
 
 /// Library version string, e.g. "0.1.0".
 inline std::string version() { return uvf_version(); }
+
+/// ABI version of the loaded library; equal to the header's UVF_ABI_VERSION when they match.
+inline std::uint32_t abi_version() { return uvf_abi_version(); }
 
 /// Barycentric weights of `fixed_boundary_map` (UVF_WEIGHTS_*).
 enum class Weights : std::uint32_t {
@@ -220,10 +272,26 @@ inline std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<
     return loops;
 }
 
-/// Fixed-boundary barycentric map; returns 2 doubles per vertex (NaN for unreferenced ones).
-inline std::vector<double> fixed_boundary_map(const double *positions, std::size_t vertex_count,
-                                              const std::uint32_t *triangles, std::size_t triangle_count,
-                                              const FixedBoundaryOptions &options = {}) {
+/// Connected component (0-based) of every triangle: 1 entry per triangle.
+inline std::vector<std::uint32_t> triangle_components(const std::vector<double> &positions,
+                                                      const std::vector<std::uint32_t> &triangles) {
+    const std::size_t nt = detail::count_of(triangles, "triangles");
+    std::vector<std::uint32_t> component(nt);
+    detail::check(uvf_triangle_components(positions.data(), detail::count_of(positions, 3, "positions"),
+                                          triangles.data(), nt, component.data()));
+    return component;
+}
+
+namespace detail {
+
+/// Checks a given boundary: 2 UV values per given vertex.
+inline void check_given(const std::vector<std::uint32_t> &vertices, const std::vector<double> &uv) {
+    if (uv.size() != 2 * vertices.size()) throw Error(UVF_INVALID_ARGUMENT, "given_uv must hold 2 values per given vertex");
+}
+
+/// The C options of `fixed_boundary_map` (no progress callback installed); they point into
+/// `options.given_vertices` and `options.given_uv`.
+inline UvfFixedBoundaryOptions fixed_boundary_options(const FixedBoundaryOptions &options) {
     UvfFixedBoundaryOptions o;
     uvf_fixed_boundary_options_default(&o);
     o.weights = static_cast<std::uint32_t>(options.weights);
@@ -231,12 +299,20 @@ inline std::vector<double> fixed_boundary_map(const double *positions, std::size
     o.distribution = static_cast<std::uint32_t>(options.distribution);
     o.lambda = options.lambda;
     o.mu = options.mu;
-    if (options.given_uv.size() != 2 * options.given_vertices.size()) {
-        throw Error(UVF_INVALID_ARGUMENT, "given_uv must hold 2 values per given vertex");
-    }
+    check_given(options.given_vertices, options.given_uv);
     o.given_count = options.given_vertices.size();
     o.given_vertices = options.given_vertices.data();
     o.given_uv = options.given_uv.data();
+    return o;
+}
+
+} // namespace detail
+
+/// Fixed-boundary barycentric map; returns 2 doubles per vertex (NaN for unreferenced ones).
+inline std::vector<double> fixed_boundary_map(const double *positions, std::size_t vertex_count,
+                                              const std::uint32_t *triangles, std::size_t triangle_count,
+                                              const FixedBoundaryOptions &options = {}) {
+    UvfFixedBoundaryOptions o = detail::fixed_boundary_options(options);
     return detail::run_uv_method(uvf_fixed_boundary_map, o, options.progress, positions, vertex_count, triangles,
                                  triangle_count);
 }
@@ -264,6 +340,195 @@ inline std::vector<double> natural_conformal_map(const std::vector<double> &posi
                                                  const NaturalConformalOptions &options = {}) {
     return natural_conformal_map(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
                                  detail::count_of(triangles, "triangles"), options);
+}
+
+/// A point of the surface and the UV it must map to: `{triangle, {b0, b1, b2}, {u, v}}`, the
+/// barycentric coordinates with respect to the triangle's corners (normalized by their sum).
+using PointConstraint = UvfPointConstraint;
+
+namespace detail {
+
+/// Runs an intrinsic tool `method(positions, nv, triangles, nt, ..., &options, uv_out)` whose
+/// arguments after the mesh are bound by `call(options, uv_out)`.
+template <class Call>
+std::vector<double> run_tool(const std::vector<double> &positions, const std::function<bool(double)> &callback,
+                             Call call) {
+    UvfIntrinsicToolOptions o;
+    uvf_intrinsic_tool_options_default(&o);
+    Progress progress;
+    progress.callback = &callback;
+    progress.install(o);
+    std::vector<double> uv(2 * count_of(positions, 3, "positions"));
+    progress.finish(call(&o, uv.data()));
+    return uv;
+}
+
+} // namespace detail
+
+/// Fixed-boundary map with point constraints (Desbrun et al. 2002 §4.1, Lagrange
+/// multipliers): `fixed_boundary_map` with every constraint met exactly; 2 doubles per vertex.
+inline std::vector<double> constrained_fixed_boundary_map(const std::vector<double> &positions,
+                                                          const std::vector<std::uint32_t> &triangles,
+                                                          const std::vector<PointConstraint> &constraints,
+                                                          const FixedBoundaryOptions &options = {}) {
+    UvfFixedBoundaryOptions o = detail::fixed_boundary_options(options);
+    detail::Progress progress;
+    progress.callback = &options.progress;
+    progress.install(o);
+    const std::size_t nv = detail::count_of(positions, 3, "positions");
+    std::vector<double> uv(2 * nv);
+    progress.finish(uvf_constrained_fixed_boundary_map(positions.data(), nv, triangles.data(),
+                                                       detail::count_of(triangles, "triangles"), &o,
+                                                       constraints.data(), constraints.size(), uv.data()));
+    return uv;
+}
+
+/// Natural conformal map with point constraints instead of two pins (Desbrun et al. 2002
+/// §4.1): at least 2 constraints, not all with the same target; 2 doubles per vertex.
+inline std::vector<double> constrained_natural_conformal_map(const std::vector<double> &positions,
+                                                             const std::vector<std::uint32_t> &triangles,
+                                                             const std::vector<PointConstraint> &constraints,
+                                                             const std::function<bool(double)> &progress = {}) {
+    return detail::run_tool(positions, progress, [&](const UvfIntrinsicToolOptions *o, double *uv) {
+        return uvf_constrained_natural_conformal_map(positions.data(), detail::count_of(positions, 3, "positions"),
+                                                     triangles.data(),
+                                                     detail::count_of(triangles, "triangles"), constraints.data(),
+                                                     constraints.size(), o, uv);
+    });
+}
+
+/// Natural conformal map with any number (≥ 2) of pinned vertices; 2 doubles per vertex.
+inline std::vector<double> pinned_natural_conformal_map(const std::vector<double> &positions,
+                                                        const std::vector<std::uint32_t> &triangles,
+                                                        const std::vector<Pin> &pins,
+                                                        const std::function<bool(double)> &progress = {}) {
+    std::vector<std::uint32_t> vertices;
+    std::vector<double> uv;
+    for (const Pin &p : pins) {
+        vertices.push_back(p.vertex);
+        uv.insert(uv.end(), {p.u, p.v});
+    }
+    return detail::run_tool(positions, progress, [&](const UvfIntrinsicToolOptions *o, double *out) {
+        return uvf_pinned_natural_conformal_map(positions.data(), detail::count_of(positions, 3, "positions"),
+                                                triangles.data(),
+                                                detail::count_of(triangles, "triangles"), vertices.data(), uv.data(),
+                                                pins.size(), o, out);
+    });
+}
+
+/// Distortion energy of the intrinsic-map optimizations (UVF_ENERGY_*, Desbrun et al. 2002 §5.1).
+enum class Energy : std::uint32_t { edge_length = UVF_ENERGY_EDGE_LENGTH, area = UVF_ENERGY_AREA };
+
+/// Options of `intrinsic_optimal_map`; defaults as `uvf_intrinsic_optimal_options_default`.
+struct IntrinsicOptimalOptions {
+    Energy energy = Energy::edge_length;
+    Boundary boundary = Boundary::circle;
+    Distribution distribution = Distribution::chord;
+    /// The range of λ searched.
+    double lambda_min = -std::numeric_limits<double>::infinity();
+    double lambda_max = std::numeric_limits<double>::infinity();
+    /// For Boundary::given: vertices of whole boundary loops and their UVs (2 per vertex).
+    std::vector<std::uint32_t> given_vertices;
+    std::vector<double> given_uv;
+    std::function<bool(double)> progress;
+};
+
+namespace detail {
+
+/// The C options of `intrinsic_optimal_map` (no progress callback installed).
+inline UvfIntrinsicOptimalOptions intrinsic_optimal_options(const IntrinsicOptimalOptions &options) {
+    UvfIntrinsicOptimalOptions o;
+    uvf_intrinsic_optimal_options_default(&o);
+    o.energy = static_cast<std::uint32_t>(options.energy);
+    o.boundary = static_cast<std::uint32_t>(options.boundary);
+    o.distribution = static_cast<std::uint32_t>(options.distribution);
+    o.lambda_min = options.lambda_min;
+    o.lambda_max = options.lambda_max;
+    check_given(options.given_vertices, options.given_uv);
+    o.given_count = options.given_vertices.size();
+    o.given_vertices = options.given_vertices.data();
+    o.given_uv = options.given_uv.data();
+    return o;
+}
+
+} // namespace detail
+
+/// Near-optimal intrinsic map (Desbrun et al. 2002 §5.1): λ·DCP + (1 − λ)·DAP with the λ
+/// minimizing the energy (never worse than pure DCP or DAP when they are in the range); 2
+/// doubles per vertex, λ and the energies in `*report` if given.
+inline std::vector<double> intrinsic_optimal_map(const std::vector<double> &positions,
+                                                 const std::vector<std::uint32_t> &triangles,
+                                                 const IntrinsicOptimalOptions &options = {},
+                                                 UvfIntrinsicOptimalReport *report = nullptr) {
+    UvfIntrinsicOptimalOptions o = detail::intrinsic_optimal_options(options);
+    return detail::run_reported(uvf_intrinsic_optimal_map, o, options.progress, positions, triangles, report);
+}
+
+/// Options of `boundary_optimized_map`; defaults as `uvf_boundary_optimization_options_default`.
+struct BoundaryOptimizationOptions {
+    Energy energy = Energy::edge_length;
+    std::uint32_t iterations = 100;
+    /// The intrinsic map λ·DCP + μ·DAP.
+    double lambda = 1.0;
+    double mu = 0.0;
+    /// Stop when an iteration lowers the energy by less than tolerance × energy.
+    double tolerance = 1e-6;
+    /// The starting boundary; given positions must cover exactly the outer (longest) loop.
+    Boundary boundary = Boundary::circle;
+    Distribution distribution = Distribution::chord;
+    std::vector<std::uint32_t> given_vertices;
+    std::vector<double> given_uv;
+    std::function<bool(double)> progress;
+};
+
+namespace detail {
+
+/// The C options of `boundary_optimized_map` (no progress callback installed).
+inline UvfBoundaryOptimizationOptions boundary_optimization_options(const BoundaryOptimizationOptions &options) {
+    UvfBoundaryOptimizationOptions o;
+    uvf_boundary_optimization_options_default(&o);
+    o.energy = static_cast<std::uint32_t>(options.energy);
+    o.iterations = options.iterations;
+    o.lambda = options.lambda;
+    o.mu = options.mu;
+    o.tolerance = options.tolerance;
+    o.boundary = static_cast<std::uint32_t>(options.boundary);
+    o.distribution = static_cast<std::uint32_t>(options.distribution);
+    check_given(options.given_vertices, options.given_uv);
+    o.given_count = options.given_vertices.size();
+    o.given_vertices = options.given_vertices.data();
+    o.given_uv = options.given_uv.data();
+    return o;
+}
+
+} // namespace detail
+
+/// Boundary-optimized intrinsic map (Desbrun et al. 2002 §5.2): the outer boundary moved to
+/// minimize the energy, never flipping a triangle; 2 doubles per vertex. The energies (start
+/// first, one per accepted iteration) go to `*history`, the figures to `*report`, if given.
+inline std::vector<double> boundary_optimized_map(const std::vector<double> &positions,
+                                                  const std::vector<std::uint32_t> &triangles,
+                                                  const BoundaryOptimizationOptions &options = {},
+                                                  UvfBoundaryOptimizationReport *report = nullptr,
+                                                  std::vector<double> *history = nullptr) {
+    UvfBoundaryOptimizationOptions o = detail::boundary_optimization_options(options);
+    detail::Progress progress;
+    progress.callback = &options.progress;
+    progress.install(o);
+    const std::size_t nv = detail::count_of(positions, 3, "positions");
+    std::vector<double> uv(2 * nv);
+    // The history has at most one entry per iteration and the start.
+    std::vector<double> energies(history ? std::size_t(options.iterations) + 1 : 0);
+    UvfBoundaryOptimizationReport r{};
+    progress.finish(uvf_boundary_optimized_map(positions.data(), nv, triangles.data(),
+                                               detail::count_of(triangles, "triangles"), &o, uv.data(),
+                                               energies.empty() ? nullptr : energies.data(), energies.size(), &r));
+    if (history) {
+        energies.resize(std::min(energies.size(), r.history_length));
+        *history = std::move(energies);
+    }
+    if (report) *report = r;
+    return uv;
 }
 
 /// ABF variant (UVF_ABF_VARIANT_*).
@@ -366,6 +631,20 @@ inline std::vector<double> circle_pattern_map(const std::vector<double> &positio
     return detail::run_reported(uvf_circle_pattern_map, o, options.progress, positions, triangles, report);
 }
 
+/// Boundary curvature making the longest boundary loop a convex polygon with the given ≥ 3
+/// corner vertices (turning 2π / corners at each, straight between, NaN off the loop), for
+/// `CirclePatternOptions::boundary_curvature`: 1 double per vertex.
+inline std::vector<double> circle_pattern_polygon_curvature(const std::vector<double> &positions,
+                                                            const std::vector<std::uint32_t> &triangles,
+                                                            const std::vector<std::uint32_t> &corners) {
+    const std::size_t nv = detail::count_of(positions, 3, "positions");
+    std::vector<double> curvature(nv);
+    detail::check(uvf_circle_pattern_polygon_curvature(positions.data(), nv, triangles.data(),
+                                                       detail::count_of(triangles, "triangles"), corners.data(),
+                                                       corners.size(), curvature.data()));
+    return curvature;
+}
+
 /// A cone singularity: an interior vertex and its curvature (2π minus the cone angle).
 struct Cone {
     std::uint32_t vertex;
@@ -448,6 +727,381 @@ inline std::vector<double> spherical_map(const std::vector<double> &positions,
     return sphere;
 }
 
+/// Curvature neighbourhood (UVF_CURVATURE_*): rings of triangles, or a graph-distance radius.
+enum class CurvatureNeighbourhood : std::uint32_t { rings = UVF_CURVATURE_RINGS, radius = UVF_CURVATURE_RADIUS };
+
+/// Options of `curvature` (and of PGP's field); defaults as `uvf_curvature_options_default`.
+struct CurvatureOptions {
+    CurvatureNeighbourhood neighbourhood = CurvatureNeighbourhood::rings;
+    /// Rings for `rings` (≥ 1): the triangles around the vertices at most rings − 1 edges away.
+    std::uint32_t rings = 2;
+    /// Radius for `radius` (finite, > 0).
+    double radius = 0;
+};
+
+/// Principal curvatures per vertex: unit tangent directions (3 doubles per vertex, kmax =
+/// normal × kmin) and signed curvatures (1 per vertex, kmin ≤ kmax; 1/r on a sphere of radius
+/// r with outward normals). Unreferenced vertices get zeros.
+struct Curvatures {
+    std::vector<double> kmin_direction, kmax_direction;
+    std::vector<double> kmin, kmax;
+};
+
+namespace detail {
+
+inline UvfCurvatureOptions curvature_options(const CurvatureOptions &options) {
+    UvfCurvatureOptions o;
+    uvf_curvature_options_default(&o);
+    o.neighbourhood = static_cast<std::uint32_t>(options.neighbourhood);
+    o.rings = options.rings;
+    o.radius = options.radius;
+    return o;
+}
+
+} // namespace detail
+
+/// Principal curvatures by the normal-cycle tensor (Cohen-Steiner & Morvan 2003) averaged
+/// over a neighbourhood of each vertex (`uvf_curvature`).
+inline Curvatures curvature(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+                            const CurvatureOptions &options = {}) {
+    const UvfCurvatureOptions o = detail::curvature_options(options);
+    const std::size_t nv = detail::count_of(positions, 3, "positions");
+    Curvatures c;
+    c.kmin_direction.resize(3 * nv);
+    c.kmax_direction.resize(3 * nv);
+    c.kmin.resize(nv);
+    c.kmax.resize(nv);
+    detail::check(uvf_curvature(positions.data(), nv, triangles.data(), detail::count_of(triangles, "triangles"), &o,
+                                c.kmin_direction.data(), c.kmax_direction.data(), c.kmin.data(), c.kmax.data()));
+    return c;
+}
+
+/// A polygon mesh: 3 doubles per vertex, the number of corners of every face, and the faces'
+/// vertex indices one face after the other (counter-clockwise seen from outside).
+struct PolygonMesh {
+    std::vector<double> positions;
+    std::vector<std::uint32_t> face_sizes;
+    std::vector<std::uint32_t> indices;
+};
+
+/// A quad-dominant remesh (`Pgp::quad_mesh`, `quadcover_quad_mesh`): move-only owner of a
+/// `UvfQuadMesh` handle, freed by the destructor.
+class QuadMesh {
+  public:
+    /// Takes ownership of a handle from `uvf_pgp_quad_mesh` or `uvf_quadcover_quad_mesh`.
+    explicit QuadMesh(UvfQuadMesh *handle) noexcept : handle_(handle) {}
+
+    /// Vertex, face, index and quad counts.
+    UvfQuadMeshInfo info() const {
+        UvfQuadMeshInfo i{};
+        detail::check(uvf_quad_mesh_info(handle_.get(), &i));
+        return i;
+    }
+    /// The faces, copied out (`uvf_quad_mesh_copy`).
+    PolygonMesh polygons() const {
+        const UvfQuadMeshInfo i = info();
+        PolygonMesh m;
+        m.positions.resize(3 * i.vertex_count);
+        m.face_sizes.resize(i.face_count);
+        m.indices.resize(i.index_count);
+        detail::check(uvf_quad_mesh_copy(handle_.get(), m.positions.data(), m.positions.size(), m.face_sizes.data(),
+                                         m.face_sizes.size(), m.indices.data(), m.indices.size()));
+        return m;
+    }
+
+  private:
+    detail::Handle<UvfQuadMesh, uvf_quad_mesh_free> handle_;
+};
+
+/// The chart layout of a PGP result (Ray et al. 2006 §3.3, `Pgp::chart_layout`): chart
+/// boundaries along the iso-2kπ lines as polylines on the surface, and the corners of every
+/// chart. Move-only owner of a `UvfChartLayout` handle, freed by the destructor.
+class ChartLayout {
+  public:
+    /// Takes ownership of a handle from `uvf_pgp_chart_layout`.
+    explicit ChartLayout(UvfChartLayout *handle) noexcept : handle_(handle) {}
+
+    UvfChartLayoutInfo info() const {
+        UvfChartLayoutInfo i{};
+        detail::check(uvf_chart_layout_info(handle_.get(), &i));
+        return i;
+    }
+    /// Every chart-boundary polyline: 3 doubles per point.
+    std::vector<std::vector<double>> polylines() const {
+        const Copy c = copy();
+        std::vector<std::vector<double>> lines;
+        std::size_t at = 0;
+        for (std::uint32_t size : c.sizes) {
+            lines.emplace_back(c.points.begin() + 3 * at, c.points.begin() + 3 * (at + size));
+            at += size;
+        }
+        return lines;
+    }
+    /// The number of corners of every chart (4 for a regular one).
+    std::vector<std::uint32_t> chart_corners() const { return copy().chart_corners; }
+
+  private:
+    struct Copy {
+        std::vector<std::uint32_t> sizes;
+        std::vector<double> points;
+        std::vector<std::uint32_t> chart_corners;
+    };
+    Copy copy() const {
+        const UvfChartLayoutInfo i = info();
+        Copy c;
+        c.sizes.resize(i.polyline_count);
+        c.points.resize(3 * i.point_count);
+        c.chart_corners.resize(i.chart_count);
+        detail::check(uvf_chart_layout_copy(handle_.get(), c.sizes.data(), c.sizes.size(), c.points.data(),
+                                            c.points.size(), c.chart_corners.data(), c.chart_corners.size()));
+        return c;
+    }
+
+    detail::Handle<UvfChartLayout, uvf_chart_layout_free> handle_;
+};
+
+/// How a chart of `PgpCharts` is parameterized (UVF_PGP_CHART_*).
+enum class PgpChartKind : std::uint32_t {
+    assembled = UVF_PGP_CHART_ASSEMBLED,
+    mean_value = UVF_PGP_CHART_MEAN_VALUE,
+    split_quad = UVF_PGP_CHART_SPLIT_QUAD,
+    atlas = UVF_PGP_CHART_ATLAS,
+    unresolved = UVF_PGP_CHART_UNRESOLVED,
+};
+
+/// One chart of `PgpCharts`: its kind, corners (0 when it is not a disk), the layout chart it
+/// comes from (shared by the quads of one split chart) and its (u, v) extent in cells.
+struct PgpChart {
+    PgpChartKind kind;
+    std::uint32_t corners;
+    std::uint32_t layout_chart;
+    double u_size, v_size;
+};
+
+/// The per-chart parameterization of a PGP result (Ray et al. 2006 §3.3–3.4, `Pgp::charts`):
+/// the surface cut along the chart boundaries, every chart with its own (u, v) in cells.
+/// Move-only owner of a `UvfPgpCharts` handle, freed by the destructor.
+class PgpCharts {
+  public:
+    /// Takes ownership of a handle from `uvf_pgp_charts`.
+    explicit PgpCharts(UvfPgpCharts *handle) noexcept : handle_(handle) {}
+
+    UvfPgpChartsInfo info() const {
+        UvfPgpChartsInfo i{};
+        detail::check(uvf_pgp_charts_info(handle_.get(), &i));
+        return i;
+    }
+    /// Vertices of the cut triangulation (3 doubles each; the input's first, in its order).
+    std::vector<double> positions() const {
+        std::vector<double> out(3 * info().vertex_count);
+        detail::check(uvf_pgp_charts_copy(handle_.get(), out.data(), out.size(), nullptr, 0, nullptr, 0, nullptr, 0,
+                                          nullptr, 0));
+        return out;
+    }
+    /// Triangles of the cut triangulation (3 indices each, counter-clockwise like the input).
+    std::vector<std::uint32_t> triangles() const {
+        std::vector<std::uint32_t> out(3 * info().triangle_count);
+        detail::check(uvf_pgp_charts_copy(handle_.get(), nullptr, 0, out.data(), out.size(), nullptr, 0, nullptr, 0,
+                                          nullptr, 0));
+        return out;
+    }
+    /// (u, v) in cells per corner: 6 doubles per triangle of the cut triangulation.
+    std::vector<double> corner_uv() const {
+        std::vector<double> out(6 * info().triangle_count);
+        detail::check(uvf_pgp_charts_copy(handle_.get(), nullptr, 0, nullptr, 0, out.data(), out.size(), nullptr, 0,
+                                          nullptr, 0));
+        return out;
+    }
+    /// The chart of every triangle of the cut triangulation.
+    std::vector<std::uint32_t> chart_of_triangle() const {
+        std::vector<std::uint32_t> out(info().triangle_count);
+        detail::check(uvf_pgp_charts_copy(handle_.get(), nullptr, 0, nullptr, 0, nullptr, 0, out.data(), out.size(),
+                                          nullptr, 0));
+        return out;
+    }
+    /// The input triangle every triangle of the cut triangulation lies in.
+    std::vector<std::uint32_t> origin_triangles() const {
+        std::vector<std::uint32_t> out(info().triangle_count);
+        detail::check(uvf_pgp_charts_copy(handle_.get(), nullptr, 0, nullptr, 0, nullptr, 0, nullptr, 0, out.data(),
+                                          out.size()));
+        return out;
+    }
+    /// Every chart's kind, corners, layout chart and size (`uvf_pgp_charts_copy_charts`).
+    std::vector<PgpChart> charts() const {
+        const std::size_t n = info().chart_count;
+        std::vector<std::uint32_t> kinds(n), corners(n), layout(n);
+        std::vector<double> sizes(2 * n);
+        detail::check(uvf_pgp_charts_copy_charts(handle_.get(), kinds.data(), n, corners.data(), n, layout.data(), n,
+                                                 sizes.data(), sizes.size()));
+        std::vector<PgpChart> charts(n);
+        for (std::size_t k = 0; k < n; ++k) {
+            charts[k] = PgpChart{static_cast<PgpChartKind>(kinds[k]), corners[k], layout[k], sizes[2 * k],
+                                 sizes[2 * k + 1]};
+        }
+        return charts;
+    }
+
+  private:
+    detail::Handle<UvfPgpCharts, uvf_pgp_charts_free> handle_;
+};
+
+/// Field smoothing of PGP (UVF_SMOOTH_*): none, or directions equal modulo 2π, π or π/2.
+enum class Smoothing : std::uint32_t {
+    none = UVF_SMOOTH_NONE,
+    two_pi = UVF_SMOOTH_2PI,
+    pi = UVF_SMOOTH_PI,
+    half_pi = UVF_SMOOTH_HALF_PI,
+};
+
+/// Options of `Pgp`; defaults as `uvf_pgp_options_default` (see `UvfPgpOptions` for each).
+struct PgpOptions {
+    /// θ grows by ω per unit length; 0: 2π / (10 × mean edge length).
+    double omega = 0;
+    /// Empty (the maximum principal curvature direction) or 3 doubles per vertex.
+    std::vector<double> field;
+    Smoothing smoothing = Smoothing::half_pi;
+    /// Curl correction (§4.1): fewer singularities, conformal rather than isometric.
+    bool curl_correction = false;
+    double rho = 0.8;
+    double smoothing_epsilon = 0.1;
+    double epsilon = 0.1;
+    double gradient_tolerance = 1e-6;
+    std::uint32_t max_newton_iterations = 100;
+    /// The curvature neighbourhood of the field.
+    CurvatureOptions curvature;
+    bool untangle = true;
+    double feature_periods = 3;
+    double pair_periods = 0.5;
+    double dislocation_periods = 1.5;
+    bool relax = true;
+    std::function<bool(double)> progress;
+};
+
+namespace detail {
+
+/// The C options of `Pgp` (no progress callback installed); `field` points into
+/// `options.field`.
+inline UvfPgpOptions pgp_options(const PgpOptions &options, std::size_t vertex_count) {
+    check_optional_size(options.field, vertex_count, 3, "the field");
+    UvfPgpOptions o;
+    uvf_pgp_options_default(&o);
+    o.omega = options.omega;
+    o.field = options.field.empty() ? nullptr : options.field.data();
+    o.smoothing = static_cast<std::uint32_t>(options.smoothing);
+    o.curl_correction = options.curl_correction ? 1 : 0;
+    o.rho = options.rho;
+    o.smoothing_epsilon = options.smoothing_epsilon;
+    o.epsilon = options.epsilon;
+    o.gradient_tolerance = options.gradient_tolerance;
+    o.max_newton_iterations = options.max_newton_iterations;
+    o.curvature_neighbourhood = static_cast<std::uint32_t>(options.curvature.neighbourhood);
+    o.curvature_rings = options.curvature.rings;
+    o.curvature_radius = options.curvature.radius;
+    o.untangle = options.untangle ? 1 : 0;
+    o.feature_periods = options.feature_periods;
+    o.pair_periods = options.pair_periods;
+    o.dislocation_periods = options.dislocation_periods;
+    o.relax = options.relax ? 1 : 0;
+    return o;
+}
+
+} // namespace detail
+
+/// A singular point of PGP: a vertex and its index (a multiple of 1/4).
+struct SingularPoint {
+    std::uint32_t vertex;
+    double index;
+};
+
+/// Periodic Global Parameterization (Ray, Li, Lévy, Sheffer & Alliez 2006, `uvf_pgp`) of a
+/// manifold mesh of any genus, with or without boundary: per-corner (θ, φ) and the
+/// singularities, from which the quad-dominant remesh, the chart layout and the per-chart
+/// parameterization are made. Move-only owner of the `UvfPgp` handle, freed by the destructor.
+class Pgp {
+  public:
+    Pgp(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+        const PgpOptions &options = {})
+        : vertex_count_(detail::count_of(positions, 3, "positions")) {
+        UvfPgpOptions o = detail::pgp_options(options, vertex_count_);
+        detail::Progress progress;
+        progress.callback = &options.progress;
+        progress.install(o);
+        const std::size_t nt = detail::count_of(triangles, "triangles");
+        corner_theta_phi_.resize(6 * nt);
+        progress.finish(uvf_pgp(positions.data(), vertex_count_, triangles.data(), nt, &o, corner_theta_phi_.data(),
+                                handle_.out()));
+    }
+
+    /// Counts, ω, the index sum and the quality figures.
+    UvfPgpInfo info() const {
+        UvfPgpInfo i{};
+        detail::check(uvf_pgp_info(handle_.get(), &i));
+        return i;
+    }
+    /// (θ, φ) in radians for every corner: 6 doubles per triangle, corner k of triangle t at
+    /// 6t + 2k; θ/2π, φ/2π are texture coordinates of a periodic texture.
+    const std::vector<double> &corner_theta_phi() const noexcept { return corner_theta_phi_; }
+    /// The field the periodic solve followed: 3 doubles per vertex.
+    std::vector<double> field() const {
+        std::vector<double> out(3 * vertex_count_);
+        detail::check(uvf_pgp_copy_field(handle_.get(), out.data(), out.size()));
+        return out;
+    }
+    /// Singular vertices (§3.2), ascending.
+    std::vector<std::uint32_t> singular_vertices() const {
+        std::vector<std::uint32_t> out(info().singular_vertex_count);
+        detail::check(uvf_pgp_copy_singular_vertices(handle_.get(), out.data(), out.size()));
+        return out;
+    }
+    /// Singular edges as vertex pairs a < b (2 per edge), sorted.
+    std::vector<std::uint32_t> singular_edges() const {
+        std::vector<std::uint32_t> out(2 * info().singular_edge_count);
+        detail::check(uvf_pgp_copy_singular_edges(handle_.get(), out.data(), out.size()));
+        return out;
+    }
+    /// Singular triangles, ascending.
+    std::vector<std::uint32_t> singular_triangles() const {
+        std::vector<std::uint32_t> out(info().singular_triangle_count);
+        detail::check(uvf_pgp_copy_singular_triangles(handle_.get(), out.data(), out.size()));
+        return out;
+    }
+    /// Vertices of non-zero index; the indices sum to 2 − 2g on a closed surface of genus g.
+    std::vector<SingularPoint> singular_points() const {
+        const std::size_t n = info().singular_point_count;
+        std::vector<std::uint32_t> vertices(n);
+        std::vector<double> indices(n);
+        detail::check(uvf_pgp_copy_singular_points(handle_.get(), vertices.data(), indices.data(), n));
+        std::vector<SingularPoint> points(n);
+        for (std::size_t k = 0; k < n; ++k) points[k] = SingularPoint{vertices[k], indices[k]};
+        return points;
+    }
+    /// Quad-dominant remesh (§5): the iso-lines at `density` lines per period (a whole
+    /// number ≥ 1).
+    QuadMesh quad_mesh(double density = 1) const {
+        UvfQuadMesh *mesh = nullptr;
+        detail::check(uvf_pgp_quad_mesh(handle_.get(), density, &mesh));
+        return QuadMesh(mesh);
+    }
+    /// Chart layout (§3.3, Algorithm 2).
+    ChartLayout chart_layout() const {
+        UvfChartLayout *layout = nullptr;
+        detail::check(uvf_pgp_chart_layout(handle_.get(), &layout));
+        return ChartLayout(layout);
+    }
+    /// Per-chart parameterization (§3.3–3.4), cut along the iso-lines at `density` lines per
+    /// period (1: the paper's iso-2kπ chart boundaries; a whole number).
+    PgpCharts charts(double density = 1) const {
+        UvfPgpCharts *charts = nullptr;
+        detail::check(uvf_pgp_charts(handle_.get(), density, &charts));
+        return PgpCharts(charts);
+    }
+
+  private:
+    detail::Handle<UvfPgp, uvf_pgp_free> handle_;
+    std::size_t vertex_count_ = 0;
+    std::vector<double> corner_theta_phi_;
+};
+
 /// Options of `quadcover`; 0 for `grid_spacing` is 3 mean edge lengths.
 struct QuadCoverOptions {
     double grid_spacing = 0;
@@ -473,11 +1127,11 @@ struct QuadCoverMap {
     UvfQuadCoverReport report{};
 };
 
-/// QuadCover (Kälberer, Nieser & Polthier 2007): a seamless global parameterization whose
-/// integer iso-lines close up over the surface (quarter turns and integer translations across
-/// every seam).
-inline QuadCoverMap quadcover(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
-                              const QuadCoverOptions &options = {}) {
+namespace detail {
+
+/// The C options of `quadcover` (no progress callback installed).
+inline UvfQuadCoverOptions quadcover_options(const QuadCoverOptions &options, std::size_t triangle_count) {
+    check_optional_size(options.field, triangle_count, 3, "the field");
     UvfQuadCoverOptions o;
     uvf_quadcover_options_default(&o);
     o.grid_spacing = options.grid_spacing;
@@ -486,12 +1140,19 @@ inline QuadCoverMap quadcover(const std::vector<double> &positions, const std::v
     o.cones_on_grid = options.cones_on_grid ? 1 : 0;
     o.pair_cells = options.pair_cells;
     o.untangle = options.untangle ? 1 : 0;
+    return o;
+}
+
+} // namespace detail
+
+/// QuadCover (Kälberer, Nieser & Polthier 2007): a seamless global parameterization whose
+/// integer iso-lines close up over the surface (quarter turns and integer translations across
+/// every seam).
+inline QuadCoverMap quadcover(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+                              const QuadCoverOptions &options = {}) {
     const std::size_t nv = detail::count_of(positions, 3, "positions");
     const std::size_t nt = detail::count_of(triangles, "triangles");
-    if (!options.field.empty() && options.field.size() != 3 * nt) {
-        throw Error(UVF_INVALID_ARGUMENT, "the field must hold 3 doubles per triangle (" + std::to_string(3 * nt) +
-                                              "), but its size is " + std::to_string(options.field.size()));
-    }
+    UvfQuadCoverOptions o = detail::quadcover_options(options, nt);
     detail::Progress progress;
     progress.callback = &options.progress;
     progress.install(o);
@@ -503,6 +1164,128 @@ inline QuadCoverMap quadcover(const std::vector<double> &positions, const std::v
                                   map.cone_index.data(), &map.report));
     return map;
 }
+
+/// The integer grid lines of a QuadCover map (computed as `quadcover` does) as a quad-dominant
+/// mesh on the surface: the lines u, v ∈ ℤ / `density` (a whole number ≥ 1); the report goes
+/// to `*report` if given.
+inline QuadMesh quadcover_quad_mesh(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+                                    double density = 1, const QuadCoverOptions &options = {},
+                                    UvfQuadCoverReport *report = nullptr) {
+    const std::size_t nt = detail::count_of(triangles, "triangles");
+    UvfQuadCoverOptions o = detail::quadcover_options(options, nt);
+    detail::Progress progress;
+    progress.callback = &options.progress;
+    progress.install(o);
+    UvfQuadMesh *handle = nullptr;
+    UvfQuadCoverReport r{};
+    const UvfStatus status = uvf_quadcover_quad_mesh(positions.data(), detail::count_of(positions, 3, "positions"),
+                                                     triangles.data(), nt, &o,
+                                                     options.field.empty() ? nullptr : options.field.data(), density,
+                                                     &handle, &r);
+    QuadMesh mesh(handle);
+    progress.finish(status);
+    if (report) *report = r;
+    return mesh;
+}
+
+/// How `Atlas` flattens its charts (UVF_ATLAS_CHART_*).
+enum class AtlasChartMethod : std::uint32_t {
+    natural_conformal = UVF_ATLAS_CHART_NATURAL_CONFORMAL,
+    mean_value = UVF_ATLAS_CHART_MEAN_VALUE,
+    slim = UVF_ATLAS_CHART_SLIM,
+    stretch = UVF_ATLAS_CHART_STRETCH,
+};
+
+/// Options of `Atlas`; defaults as `uvf_atlas_options_default`.
+struct AtlasOptions {
+    /// Largest L2 stretch of a chart (≥ 1); infinity splits only charts that flip or overlap.
+    double max_stretch = 1.004;
+    /// Gap between charts in the unit square, in [0, 0.5).
+    double margin = 0.005;
+    AtlasChartMethod method = AtlasChartMethod::natural_conformal;
+    /// Iterations of the non-linear chart methods.
+    std::uint32_t iterations = 20;
+    bool rotate = true;
+    bool merge = true;
+    /// L2-stretch polishing iterations per chart (0: none).
+    std::uint32_t polish_iterations = 10;
+    std::function<bool(double)> progress;
+};
+
+namespace detail {
+
+/// The C options of `Atlas` (no progress callback installed).
+inline UvfAtlasOptions atlas_options(const AtlasOptions &options) {
+    UvfAtlasOptions o;
+    uvf_atlas_options_default(&o);
+    o.max_stretch = options.max_stretch;
+    o.margin = options.margin;
+    o.method = static_cast<std::uint32_t>(options.method);
+    o.iterations = options.iterations;
+    o.rotate = options.rotate ? 1 : 0;
+    o.merge = options.merge ? 1 : 0;
+    o.polish_iterations = options.polish_iterations;
+    return o;
+}
+
+} // namespace detail
+
+/// A packed chart atlas of any manifold mesh (`uvf_atlas`): charts without flips, overlaps or
+/// stretch above the bound, packed without overlap into [0, 1]². Move-only owner of the
+/// `UvfAtlas` handle, freed by the destructor. `metrics(positions, triangles, uv(),
+/// uv_triangles())` measures it.
+class Atlas {
+  public:
+    Atlas(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+          const AtlasOptions &options = {}) {
+        UvfAtlasOptions o = detail::atlas_options(options);
+        detail::Progress progress;
+        progress.callback = &options.progress;
+        progress.install(o);
+        progress.finish(uvf_atlas(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
+                                  detail::count_of(triangles, "triangles"), &o, handle_.out()));
+    }
+
+    /// Sizes, utilization and stretch.
+    UvfAtlasInfo info() const {
+        UvfAtlasInfo i{};
+        detail::check(uvf_atlas_info(handle_.get(), &i));
+        return i;
+    }
+    /// UV of every atlas vertex (2 doubles each, in [0, 1]).
+    std::vector<double> uv() const {
+        std::vector<double> out(2 * info().vertex_count);
+        detail::check(uvf_atlas_copy_uv(handle_.get(), out.data(), out.size()));
+        return out;
+    }
+    /// The atlas vertex of every corner: 3 indices into `uv()` per input triangle.
+    std::vector<std::uint32_t> uv_triangles() const {
+        std::vector<std::uint32_t> out(3 * info().triangle_count);
+        detail::check(uvf_atlas_copy_triangles(handle_.get(), out.data(), out.size()));
+        return out;
+    }
+    /// UV of every corner: 6 doubles per input triangle.
+    std::vector<double> corner_uv() const {
+        std::vector<double> out(6 * info().triangle_count);
+        detail::check(uvf_atlas_copy_corner_uv(handle_.get(), out.data(), out.size()));
+        return out;
+    }
+    /// The chart of every input triangle, in [0, chart_count).
+    std::vector<std::uint32_t> chart_of_triangle() const {
+        std::vector<std::uint32_t> out(info().triangle_count);
+        detail::check(uvf_atlas_copy_charts(handle_.get(), out.data(), out.size()));
+        return out;
+    }
+    /// The input vertex of every atlas vertex.
+    std::vector<std::uint32_t> original_vertices() const {
+        std::vector<std::uint32_t> out(info().vertex_count);
+        detail::check(uvf_atlas_copy_original_vertices(handle_.get(), out.data(), out.size()));
+        return out;
+    }
+
+  private:
+    detail::Handle<UvfAtlas, uvf_atlas_free> handle_;
+};
 
 /// Distortion of per-vertex UVs (2 doubles per vertex).
 inline UvfMetrics metrics(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
@@ -586,13 +1369,26 @@ class Cut {
 /// Real-time boundary editing (Desbrun et al. 2002 §4.2, `uvf_boundary_editor_*`): factors
 /// λ·DCP + μ·DAP once; `solve` maps new positions of the outer boundary to the whole map.
 /// Move-only owner of the library's handle; `solve` may run concurrently from several threads.
+/// The optional progress callback follows (and can cancel) the factorization.
 class BoundaryEditor {
   public:
     BoundaryEditor(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
-                   double lambda = 1.0, double mu = 0.0)
+                   double lambda = 1.0, double mu = 0.0, const std::function<bool(double)> &callback = {})
         : vertex_count_(detail::count_of(positions, 3, "positions")) {
-        detail::check(uvf_boundary_editor_new(positions.data(), vertex_count_, triangles.data(),
-                                              detail::count_of(triangles, "triangles"), lambda, mu, nullptr, &handle_));
+        UvfIntrinsicToolOptions o;
+        uvf_intrinsic_tool_options_default(&o);
+        detail::Progress progress;
+        progress.callback = &callback;
+        progress.install(o);
+        const UvfStatus status = uvf_boundary_editor_new(positions.data(), vertex_count_, triangles.data(),
+                                                         detail::count_of(triangles, "triangles"), lambda, mu, &o,
+                                                         &handle_);
+        try {
+            progress.finish(status);
+        } catch (...) { // no destructor runs for a constructor that throws
+            uvf_boundary_editor_free(std::exchange(handle_, nullptr));
+            throw;
+        }
     }
     BoundaryEditor(const BoundaryEditor &) = delete;
     BoundaryEditor &operator=(const BoundaryEditor &) = delete;
@@ -622,6 +1418,17 @@ class BoundaryEditor {
         detail::check(uvf_boundary_editor_solve(handle_, boundary_uv.data(),
                                                 detail::count_of(boundary_uv, 2, "boundary_uv"), uv.data()));
         return uv;
+    }
+    /// The Green-function basis (Desbrun et al. 2002 §4.2): b × n doubles (b boundary vertices,
+    /// n mesh vertices), `basis[i * n + v]` the weight of boundary vertex i in the UV of vertex
+    /// v. Refused with UVF_INVALID_ARGUMENT when it would take more than `max_bytes`.
+    std::vector<double> basis(std::size_t max_bytes = std::size_t(1) << 30) const {
+        const std::size_t count = boundary().size() * vertex_count_;
+        std::vector<double> out;
+        // Over the budget the library refuses before writing; nothing is allocated here.
+        if (count <= max_bytes / sizeof(double)) out.resize(count);
+        detail::check(uvf_boundary_editor_basis(handle_, max_bytes, out.empty() ? nullptr : out.data()));
+        return out;
     }
 
   private:
