@@ -228,7 +228,7 @@ pub const PERIODIC_EPSILON: f64 = 0.1;
 /// with and without curl correction, all but the mesh torus without it, which reaches the limit
 /// (2026-12-06: bob 6, knight 11, cow 20, bunny 27, man 33, armadillo 49, kitten 69, nefertiti
 /// 78 without curl correction; the paper needed ≤ 5 at its ε). Each iteration is one or two factorizations: on the 207k-face disk of
-/// `benches/pgp.rs` the whole pipeline converges (51 iterations) in 35–37 s on this shared
+/// `benches/pgp.rs` the whole pipeline converges (62 iterations) in 39–48 s on this shared
 /// 2-core machine, against the 60 s. A smaller limit trades the last digits of the
 /// gradient for time: the singular triangles change by at most 0.5 points after 10 iterations
 /// (spot 1.26% at 10, 1.13% converged; kitten 0.90 / 0.81%).
