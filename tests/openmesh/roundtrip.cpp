@@ -7,6 +7,7 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
+#include "flat_arrays.hpp"
 #include "uvflat.hpp"
 
 #include <algorithm>
@@ -17,8 +18,6 @@
 #include <utility>
 #include <vector>
 
-using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
-
 namespace {
 
 int failures = 0;
@@ -26,23 +25,6 @@ int failures = 0;
 void fail(const std::string &mesh, const std::string &what) {
     std::printf("FAIL %s: %s\n", mesh.c_str(), what.c_str());
     ++failures;
-}
-
-struct Arrays {
-    std::vector<double> positions;
-    std::vector<std::uint32_t> triangles;
-};
-
-Arrays flat_arrays(const Mesh &mesh) {
-    Arrays a;
-    for (auto v : mesh.vertices()) {
-        const auto p = mesh.point(v);
-        a.positions.insert(a.positions.end(), {double(p[0]), double(p[1]), double(p[2])});
-    }
-    for (auto f : mesh.faces()) {
-        for (auto v : mesh.fv_range(f)) a.triangles.push_back(std::uint32_t(v.idx()));
-    }
-    return a;
 }
 
 std::string base_name(const std::string &path) { return path.substr(path.find_last_of('/') + 1); }

@@ -11,6 +11,7 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
+#include "flat_arrays.hpp"
 #include "uvflat.hpp"
 
 #include <algorithm>
@@ -21,8 +22,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
 
 namespace {
 
@@ -48,13 +47,6 @@ template <class F> void expect_error(UvfStatus status, const std::string &what, 
     }
 }
 
-struct Arrays {
-    std::vector<double> positions;
-    std::vector<std::uint32_t> triangles;
-    std::size_t vertex_count() const { return positions.size() / 3; }
-    std::size_t triangle_count() const { return triangles.size() / 3; }
-};
-
 Arrays read(const std::string &path) {
     Mesh mesh;
     Arrays a;
@@ -63,14 +55,7 @@ Arrays read(const std::string &path) {
         expect(false, "OpenMesh cannot read it");
         return a;
     }
-    for (auto v : mesh.vertices()) {
-        const auto p = mesh.point(v);
-        a.positions.insert(a.positions.end(), {double(p[0]), double(p[1]), double(p[2])});
-    }
-    for (auto f : mesh.faces()) {
-        for (auto v : mesh.fv_range(f)) a.triangles.push_back(std::uint32_t(v.idx()));
-    }
-    return a;
+    return flat_arrays(mesh);
 }
 
 bool all_finite(const std::vector<double> &x) {
