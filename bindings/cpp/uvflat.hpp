@@ -289,20 +289,26 @@ inline void check_given(const std::vector<std::uint32_t> &vertices, const std::v
     if (uv.size() != 2 * vertices.size()) throw Error(UVF_INVALID_ARGUMENT, "given_uv must hold 2 values per given vertex");
 }
 
+/// The boundary shape, distribution and given boundary vertices of options `options` in the C
+/// options `o` (which then point into `options.given_vertices` and `options.given_uv`).
+template <class C, class O> void set_boundary(C &o, const O &options) {
+    o.boundary = static_cast<std::uint32_t>(options.boundary);
+    o.distribution = static_cast<std::uint32_t>(options.distribution);
+    check_given(options.given_vertices, options.given_uv);
+    o.given_count = options.given_vertices.size();
+    o.given_vertices = options.given_vertices.data();
+    o.given_uv = options.given_uv.data();
+}
+
 /// The C options of `fixed_boundary_map` (no progress callback installed); they point into
 /// `options.given_vertices` and `options.given_uv`.
 inline UvfFixedBoundaryOptions fixed_boundary_options(const FixedBoundaryOptions &options) {
     UvfFixedBoundaryOptions o;
     uvf_fixed_boundary_options_default(&o);
     o.weights = static_cast<std::uint32_t>(options.weights);
-    o.boundary = static_cast<std::uint32_t>(options.boundary);
-    o.distribution = static_cast<std::uint32_t>(options.distribution);
     o.lambda = options.lambda;
     o.mu = options.mu;
-    check_given(options.given_vertices, options.given_uv);
-    o.given_count = options.given_vertices.size();
-    o.given_vertices = options.given_vertices.data();
-    o.given_uv = options.given_uv.data();
+    set_boundary(o, options);
     return o;
 }
 
@@ -440,14 +446,9 @@ inline UvfIntrinsicOptimalOptions intrinsic_optimal_options(const IntrinsicOptim
     UvfIntrinsicOptimalOptions o;
     uvf_intrinsic_optimal_options_default(&o);
     o.energy = static_cast<std::uint32_t>(options.energy);
-    o.boundary = static_cast<std::uint32_t>(options.boundary);
-    o.distribution = static_cast<std::uint32_t>(options.distribution);
     o.lambda_min = options.lambda_min;
     o.lambda_max = options.lambda_max;
-    check_given(options.given_vertices, options.given_uv);
-    o.given_count = options.given_vertices.size();
-    o.given_vertices = options.given_vertices.data();
-    o.given_uv = options.given_uv.data();
+    set_boundary(o, options);
     return o;
 }
 
@@ -492,12 +493,7 @@ inline UvfBoundaryOptimizationOptions boundary_optimization_options(const Bounda
     o.lambda = options.lambda;
     o.mu = options.mu;
     o.tolerance = options.tolerance;
-    o.boundary = static_cast<std::uint32_t>(options.boundary);
-    o.distribution = static_cast<std::uint32_t>(options.distribution);
-    check_given(options.given_vertices, options.given_uv);
-    o.given_count = options.given_vertices.size();
-    o.given_vertices = options.given_vertices.data();
-    o.given_uv = options.given_uv.data();
+    set_boundary(o, options);
     return o;
 }
 
