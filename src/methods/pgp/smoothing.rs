@@ -182,8 +182,9 @@ pub fn face_directions(mesh: &TriMesh, normals: &[[f64; 3]], field: &[[f64; 3]],
 /// any tangent direction where no edge has a tangent part. (The smoothed field is the same for
 /// every choice, up to rounding and the solver's tolerance; the first edge alone can run along
 /// the normal: on the tetrahedron (0,0,0), (2,0,0), (0,2,0), (0,0,2) the vertex normal at
-/// (0,2,0) is (0,1,0) and so is its first edge, and the smoothed field came out zero there, as
-/// at axis-aligned vertices of `closed_g133_cheese`.)
+/// (0,2,0) is (0,1,0) and so is its first edge, and the smoothed field came out zero there;
+/// among the shared closed meshes only `closed_g133_cheese`, whose cube faces are axis-aligned,
+/// has such vertices: its results alone changed with this choice.)
 pub fn reference_directions(mesh: &TriMesh, normals: &[[f64; 3]]) -> Vec<[f64; 3]> {
     (0..mesh.vertex_count() as u32).map(|v| reference_direction(mesh, normals[v as usize], v)).collect()
 }
