@@ -2759,11 +2759,12 @@ enum UvfStatus uvf_quad_mesh_info(const struct UvfQuadMesh *mesh, struct UvfQuad
 
 /**
  * Copies a remesh: `3 × vertex_count` coordinates, `face_count` face sizes and `index_count`
- * vertex indices (faces counter-clockwise seen from outside). Returns `UVF_OK` or
- * `UVF_INVALID_ARGUMENT` (NULL, a capacity too small; outputs untouched).
+ * vertex indices (faces counter-clockwise seen from outside). Any output may be NULL (with
+ * capacity 0) to skip it. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL handle, a capacity
+ * too small; outputs untouched).
  *
  * # Safety
- * `mesh` must be a live handle or NULL; each output must hold its capacity.
+ * `mesh` must be a live handle or NULL; each non-NULL output must hold its capacity.
  */
 enum UvfStatus uvf_quad_mesh_copy(const struct UvfQuadMesh *mesh,
                                   double *positions_out,
@@ -2805,10 +2806,10 @@ enum UvfStatus uvf_chart_layout_info(const struct UvfChartLayout *layout,
 /**
  * Copies a chart layout: `polyline_count` polyline sizes (points per polyline),
  * `3 × point_count` coordinates (the polylines concatenated) and `chart_count` corner counts.
- * Statuses as `uvf_quad_mesh_copy`.
+ * Any output may be NULL (with capacity 0) to skip it. Statuses as `uvf_quad_mesh_copy`.
  *
  * # Safety
- * `layout` must be a live handle or NULL; each output must hold its capacity.
+ * `layout` must be a live handle or NULL; each non-NULL output must hold its capacity.
  */
 enum UvfStatus uvf_chart_layout_copy(const struct UvfChartLayout *layout,
                                      uint32_t *polyline_sizes_out,

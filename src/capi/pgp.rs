@@ -616,11 +616,12 @@ pub unsafe extern "C" fn uvf_quad_mesh_info(mesh: *const UvfQuadMesh, info_out: 
 }
 
 /// Copies a remesh: `3 × vertex_count` coordinates, `face_count` face sizes and `index_count`
-/// vertex indices (faces counter-clockwise seen from outside). Returns `UVF_OK` or
-/// `UVF_INVALID_ARGUMENT` (NULL, a capacity too small; outputs untouched).
+/// vertex indices (faces counter-clockwise seen from outside). Any output may be NULL (with
+/// capacity 0) to skip it. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL handle, a capacity
+/// too small; outputs untouched).
 ///
 /// # Safety
-/// `mesh` must be a live handle or NULL; each output must hold its capacity.
+/// `mesh` must be a live handle or NULL; each non-NULL output must hold its capacity.
 #[no_mangle]
 pub unsafe extern "C" fn uvf_quad_mesh_copy(
     mesh: *const UvfQuadMesh,
@@ -635,12 +636,12 @@ pub unsafe extern "C" fn uvf_quad_mesh_copy(
         // SAFETY: as in `uvf_quad_mesh_info`.
         let m =
             &unsafe { mesh.as_ref() }.ok_or_else(|| Error::InvalidArgument("quad mesh handle is NULL".into()))?.mesh;
-        check_capacity(positions_capacity, 3 * m.positions.len(), "positions_out")?;
-        check_capacity(face_sizes_capacity, m.face_sizes.len(), "face_sizes_out")?;
-        check_capacity(indices_capacity, m.indices.len(), "indices_out")?;
-        copy_out(m.positions.as_flattened(), positions_out, positions_capacity, "positions_out")?;
-        copy_out(&m.face_sizes, face_sizes_out, face_sizes_capacity, "face_sizes_out")?;
-        copy_out(&m.indices, indices_out, indices_capacity, "indices_out")
+        check_optional(positions_out, positions_capacity, 3 * m.positions.len(), "positions_out")?;
+        check_optional(face_sizes_out, face_sizes_capacity, m.face_sizes.len(), "face_sizes_out")?;
+        check_optional(indices_out, indices_capacity, m.indices.len(), "indices_out")?;
+        copy_optional(m.positions.as_flattened(), positions_out, positions_capacity, "positions_out")?;
+        copy_optional(&m.face_sizes, face_sizes_out, face_sizes_capacity, "face_sizes_out")?;
+        copy_optional(&m.indices, indices_out, indices_capacity, "indices_out")
     })
 }
 
@@ -710,10 +711,10 @@ pub unsafe extern "C" fn uvf_chart_layout_info(
 
 /// Copies a chart layout: `polyline_count` polyline sizes (points per polyline),
 /// `3 × point_count` coordinates (the polylines concatenated) and `chart_count` corner counts.
-/// Statuses as `uvf_quad_mesh_copy`.
+/// Any output may be NULL (with capacity 0) to skip it. Statuses as `uvf_quad_mesh_copy`.
 ///
 /// # Safety
-/// `layout` must be a live handle or NULL; each output must hold its capacity.
+/// `layout` must be a live handle or NULL; each non-NULL output must hold its capacity.
 #[no_mangle]
 pub unsafe extern "C" fn uvf_chart_layout_copy(
     layout: *const UvfChartLayout,
@@ -731,12 +732,12 @@ pub unsafe extern "C" fn uvf_chart_layout_copy(
             .layout;
         let sizes: Vec<u32> = l.polylines.iter().map(|p| p.len() as u32).collect();
         let points: Vec<f64> = l.polylines.iter().flatten().flatten().copied().collect();
-        check_capacity(polyline_sizes_capacity, sizes.len(), "polyline_sizes_out")?;
-        check_capacity(points_capacity, points.len(), "points_out")?;
-        check_capacity(chart_corners_capacity, l.chart_corners.len(), "chart_corners_out")?;
-        copy_out(&sizes, polyline_sizes_out, polyline_sizes_capacity, "polyline_sizes_out")?;
-        copy_out(&points, points_out, points_capacity, "points_out")?;
-        copy_out(&l.chart_corners, chart_corners_out, chart_corners_capacity, "chart_corners_out")
+        check_optional(polyline_sizes_out, polyline_sizes_capacity, sizes.len(), "polyline_sizes_out")?;
+        check_optional(points_out, points_capacity, points.len(), "points_out")?;
+        check_optional(chart_corners_out, chart_corners_capacity, l.chart_corners.len(), "chart_corners_out")?;
+        copy_optional(&sizes, polyline_sizes_out, polyline_sizes_capacity, "polyline_sizes_out")?;
+        copy_optional(&points, points_out, points_capacity, "points_out")?;
+        copy_optional(&l.chart_corners, chart_corners_out, chart_corners_capacity, "chart_corners_out")
     })
 }
 

@@ -823,6 +823,11 @@ static void check_pgp(void) {
         check(uvf_quad_mesh_copy(quads, qpos, 3 * qi.vertex_count, qsizes, qi.face_count, qidx, qi.index_count) ==
                   UVF_OK,
               "remesh copy");
+        uint32_t *qsizes_only = malloc(sizeof(uint32_t) * qi.face_count);
+        check(uvf_quad_mesh_copy(quads, NULL, 0, qsizes_only, qi.face_count, NULL, 0) == UVF_OK &&
+                  memcmp(qsizes_only, qsizes, sizeof(uint32_t) * qi.face_count) == 0,
+              "remesh copy skips NULL outputs");
+        free(qsizes_only);
         size_t sum = 0;
         ok = 1;
         for (k = 0; k < qi.face_count; k++) sum += qsizes[k];
@@ -850,6 +855,11 @@ static void check_pgp(void) {
         check(uvf_chart_layout_copy(layout, lsizes, li.polyline_count, lpoints, 3 * li.point_count, lcorners,
                                     li.chart_count) == UVF_OK,
               "chart layout copy");
+        uint32_t *lcorners_only = malloc(sizeof(uint32_t) * li.chart_count);
+        check(uvf_chart_layout_copy(layout, NULL, 0, NULL, 0, lcorners_only, li.chart_count) == UVF_OK &&
+                  memcmp(lcorners_only, lcorners, sizeof(uint32_t) * li.chart_count) == 0,
+              "chart layout copy skips NULL outputs");
+        free(lcorners_only);
         size_t sum = 0;
         for (k = 0; k < li.polyline_count; k++) sum += lsizes[k];
         check(sum == li.point_count && li.four_corner_chart_count > 0 && li.four_corner_chart_count <= li.chart_count,
