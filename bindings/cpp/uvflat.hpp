@@ -824,35 +824,27 @@ class ChartLayout {
     }
     /// Every chart-boundary polyline: 3 doubles per point.
     std::vector<std::vector<double>> polylines() const {
-        const Copy c = copy();
+        const UvfChartLayoutInfo i = info();
+        std::vector<std::uint32_t> sizes(i.polyline_count);
+        std::vector<double> points(3 * i.point_count);
+        detail::check(uvf_chart_layout_copy(handle_.get(), sizes.data(), sizes.size(), points.data(), points.size(),
+                                            nullptr, 0));
         std::vector<std::vector<double>> lines;
         std::size_t at = 0;
-        for (std::uint32_t size : c.sizes) {
-            lines.emplace_back(c.points.begin() + 3 * at, c.points.begin() + 3 * (at + size));
+        for (std::uint32_t size : sizes) {
+            lines.emplace_back(points.begin() + 3 * at, points.begin() + 3 * (at + size));
             at += size;
         }
         return lines;
     }
     /// The number of corners of every chart (4 for a regular one).
-    std::vector<std::uint32_t> chart_corners() const { return copy().chart_corners; }
-
-  private:
-    struct Copy {
-        std::vector<std::uint32_t> sizes;
-        std::vector<double> points;
-        std::vector<std::uint32_t> chart_corners;
-    };
-    Copy copy() const {
-        const UvfChartLayoutInfo i = info();
-        Copy c;
-        c.sizes.resize(i.polyline_count);
-        c.points.resize(3 * i.point_count);
-        c.chart_corners.resize(i.chart_count);
-        detail::check(uvf_chart_layout_copy(handle_.get(), c.sizes.data(), c.sizes.size(), c.points.data(),
-                                            c.points.size(), c.chart_corners.data(), c.chart_corners.size()));
-        return c;
+    std::vector<std::uint32_t> chart_corners() const {
+        std::vector<std::uint32_t> corners(info().chart_count);
+        detail::check(uvf_chart_layout_copy(handle_.get(), nullptr, 0, nullptr, 0, corners.data(), corners.size()));
+        return corners;
     }
 
+  private:
     detail::Handle<UvfChartLayout, uvf_chart_layout_free> handle_;
 };
 
