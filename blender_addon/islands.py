@@ -25,7 +25,7 @@ loop in that "same UV" relation, which is exactly what Blender's own unwrap does
 from __future__ import annotations
 
 import dataclasses
-from typing import List, Optional, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -264,6 +264,22 @@ def fill_holes(
         tris.append(np.stack([np.roll(lp, -1), lp, np.full(len(lp), apex)], axis=1))
         apex += 1
     return np.concatenate(points), np.ascontiguousarray(np.concatenate(tris), dtype=np.uint32)
+
+
+def stacked_triangles(triangle_lists: Sequence[np.ndarray], vertex_counts: Sequence[int]) -> Tuple[np.ndarray, np.ndarray]:
+    """The triangles of several islands as one (n, 3) array indexing their vertices stacked in
+    the same order, and the island of each triangle: one numpy pass over a mesh's islands
+    instead of one per island (a mesh may have thousands)."""
+    offsets = np.concatenate([[0], np.cumsum(np.asarray(vertex_counts, dtype=np.int64))[:-1]])
+    tris = np.concatenate([np.asarray(t, dtype=np.int64).reshape(-1, 3) + o for t, o in zip(triangle_lists, offsets)])
+    owner = np.repeat(np.arange(len(triangle_lists)), [len(t) for t in triangle_lists])
+    return tris, owner
+
+
+def island_areas(points: np.ndarray, triangles: np.ndarray, owner: np.ndarray, count: int) -> np.ndarray:
+    """Total triangle area (2D or 3D points) of each of ``count`` islands, from their stacked
+    arrays (:func:`stacked_triangles`)."""
+    return np.bincount(owner, weights=triangle_areas(points, triangles), minlength=count)
 
 
 def triangle_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:

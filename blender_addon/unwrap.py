@@ -218,10 +218,11 @@ class UnwrapRun:
         :class:`Cancelled` as soon as ``self.cancel`` is set (the library's own progress
         callback stops the running method within one iteration)."""
         solve_start = time.perf_counter()
+        disks = self._known_disks()
         for index, job in enumerate(self.jobs):
             self._report(index / len(self.jobs), progress)
             try:
-                self._solve_job(index, job, lambda f: self._keep_going((index + f) / len(self.jobs)))
+                self._solve_job(index, job, bool(disks[index]), lambda f: self._keep_going((index + f) / len(self.jobs)))
             except self.uvflat.Cancelled:
                 raise Cancelled() from None
         self.solve_seconds = time.perf_counter() - solve_start
@@ -237,11 +238,36 @@ class UnwrapRun:
         self.fraction = fraction
         return not self.cancel.is_set()
 
-    def _solve_job(self, index: int, job: _Job, progress: Callable[[float], bool]) -> None:
+    def _known_disks(self) -> np.ndarray:
+        """Per job, whether its island is known to be a valid disk with one boundary loop,
+        found for all islands at once (one library call instead of one per island: a mesh may
+        have thousands). The islands of meshes without degenerate triangles are stacked into one
+        mesh; if the library accepts it, every island is valid, and an island whose Euler
+        characteristic V − E + F is 1 is a disk with one boundary loop (χ = 2 − 2g − b, and an
+        island is edge-connected). False where not known: those islands are checked one by one."""
+        known = np.zeros(len(self.jobs), dtype=bool)
+        todo = [k for k, job in enumerate(self.jobs) if not self.has_degenerate[job.obj_index]]
+        if not todo:
+            return known
+        islands = [self.jobs[k].island for k in todo]
+        counts = [len(island.positions) for island in islands]
+        tris, owner = isl.stacked_triangles([island.triangles for island in islands], counts)
+        try:
+            self.uvflat.mesh_info(np.concatenate([island.positions for island in islands]), tris.astype(np.uint32))
+        except self.uvflat.Error:
+            return known
+        edges = np.sort(np.stack([tris, np.roll(tris, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)
+        _, first = np.unique(edges[:, 0] * int(sum(counts)) + edges[:, 1], return_index=True)
+        edge_count = np.bincount(owner[first // 3], minlength=len(islands))
+        chi = np.asarray(counts) - edge_count + np.bincount(owner, minlength=len(islands))
+        known[np.asarray(todo)] = chi == 1
+        return known
+
+    def _solve_job(self, index: int, job: _Job, known_disk: bool, progress: Callable[[float], bool]) -> None:
         uvflat = self.uvflat
         if self.has_degenerate[job.obj_index]:
             job = self.jobs[index] = _Job(job.obj_index, isl.without_degenerate(job.island), job.pin_vertices, job.pin_uv)
-        problem, loops = self._problem(job.island)
+        problem, loops = (None, 1) if known_disk else self._problem(job.island)
         job.holes = loops > 1
         if problem is not None and problem[0] in ("closed", "not_disk") and self.settings["cut_closed"]:
             cut = self._cut(job.island)
@@ -373,19 +399,34 @@ class UnwrapRun:
         return self._summary(unwrapped_polys)
 
     def _layout(self, margin: float) -> None:
-        """Islands without pins: UV area = 3D area, aspect correction, side by side in [0, 1]²."""
+        """Islands without pins: UV area = 3D area, aspect correction, side by side in [0, 1]²;
+        in one numpy pass over the stacked islands (thousands of one-face islands took 0.4 s
+        island by island)."""
         free = [job for job in self.solved if len(job.pin_vertices) == 0]
-        sizes = []
-        for job in free:
-            island = job.island
-            area_3d = float(isl.triangle_areas(island.positions, island.triangles).sum())
-            uv = from_square(isl.scale_to_area(job.uv, island.triangles, area_3d), self.meshes[job.obj_index][5])
-            uv -= uv.min(axis=0)
-            job.uv = uv
-            sizes.append(uv.max(axis=0))
-        corners, scale = isl.shelf_layout(np.array(sizes).reshape(-1, 2), margin)
-        for job, corner in zip(free, corners):
-            job.uv = (job.uv + corner) * scale
+        if not free:
+            return
+        counts = np.array([len(job.uv) for job in free])
+        starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        vertex_owner = np.repeat(np.arange(len(free)), counts)
+        tris, owner = isl.stacked_triangles([job.island.triangles for job in free], counts)
+        positions = np.concatenate([job.island.positions for job in free])
+        uv = np.concatenate([job.uv for job in free])
+        area_3d = isl.island_areas(positions, tris, owner, len(free))
+        area_uv = isl.island_areas(uv, tris, owner, len(free))
+        # isl.scale_to_area per island: unchanged where either area is not positive.
+        valid = (area_uv > 0) & np.isfinite(area_uv) & (area_3d > 0)
+        factor = np.ones(len(free))
+        factor[valid] = np.sqrt(area_3d[valid] / area_uv[valid])
+        uv *= factor[vertex_owner][:, None]
+        # from_square per island: an image wider than high squeezes u, a taller one v.
+        aspect = np.array([self.meshes[job.obj_index][5] for job in free])[vertex_owner]
+        uv[:, 0] /= np.where(aspect > 1, aspect, 1.0)
+        uv[:, 1] *= np.where(aspect < 1, aspect, 1.0)
+        uv -= np.minimum.reduceat(uv, starts)[vertex_owner]
+        corners, scale = isl.shelf_layout(np.maximum.reduceat(uv, starts), margin)
+        uv = (uv + corners[vertex_owner]) * scale
+        for job, part in zip(free, np.split(uv, starts[1:])):
+            job.uv = part
 
     def _write_uvs(self) -> List[np.ndarray]:
         """Writes every solved island's UVs into its mesh and selects them; returns the
@@ -415,13 +456,17 @@ class UnwrapRun:
         return unwrapped_polys
 
     def _mean_angle_distortion(self) -> float:
-        weighted, counted = 0.0, 0
-        for job in self.solved:
-            m = self.uvflat.metrics(job.island.positions, job.island.triangles, job.uv)
-            if np.isfinite(m.angle_mean):
-                weighted += m.angle_mean * m.triangles
-                counted += m.triangles
-        return weighted / counted if counted else float("nan")
+        """The library's mean angle error over every solved island's triangles, measured in
+        one call on the islands stacked (one call per island took 0.2 s on thousands)."""
+        if not self.solved:
+            return float("nan")
+        tris, _ = isl.stacked_triangles([job.island.triangles for job in self.solved], [len(job.uv) for job in self.solved])
+        m = self.uvflat.metrics(
+            np.concatenate([job.island.positions for job in self.solved]),
+            tris.astype(np.uint32),
+            np.concatenate([job.uv for job in self.solved]),
+        )
+        return float(m.angle_mean)
 
     def _warnings(self) -> List[str]:
         warnings = []

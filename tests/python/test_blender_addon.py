@@ -792,6 +792,45 @@ def test_without_fill_holes_the_free_boundary_map_of_a_tube_folds():
     assert covered_more_than_once(data, np.arange(len(obj.data.polygons))) > 0.2
 
 
+def test_every_face_an_island_next_to_a_tube_in_one_run():
+    # Thousands of islands are checked, scaled, laid out and measured together (one library
+    # call for all instead of one per island): each face of the seamed grid must still come out
+    # as its own unfolded island at the common scale, and the tube in the same run, which the
+    # stacked check cannot call a disk (Euler characteristic 0), must still get its second hole
+    # filled (without, it folds: test_without_fill_holes_the_free_boundary_map_of_a_tube_folds).
+    n = 8
+    obj = grid(n)
+    obj.data.edges.foreach_set("use_seam", np.ones(len(obj.data.edges), dtype=bool))
+    bpy.ops.mesh.primitive_cylinder_add(vertices=32, end_fill_type="NOTHING", location=(4, 0, 0))
+    cylinder = bpy.context.object
+    bpy.ops.object.mode_set(mode="OBJECT")
+    edit([obj, cylinder], lambda o: np.ones(len(o.data.polygons), bool))
+    summary = run()
+    assert summary["islands"] == n * n + 1 and summary["faces"] == n * n + 32, summary
+    assert summary["warnings"] == []
+    data, tube_data = read(obj), read(cylinder)
+    faces = [np.array([p]) for p in range(n * n)]
+    assert len(uv_islands(data, np.arange(n * n))) == n * n
+    assert_no_flips(data, faces)
+    assert_no_overlap(data, faces)
+    # UV area / 3D area is one number for every island (each keeps its relative size).
+    ratios = []
+    for p in range(n * n):
+        tris = triangles_of(data, np.array([p]))
+        a, b, c = (data["co"][data["loop_vert"][tris[:, k]]] for k in range(3))
+        area_3d = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum()
+        ratios.append(np.abs(signed_areas(data, tris)).sum() / area_3d)
+    assert np.ptp(ratios) < 1e-4 * np.mean(ratios), ratios
+    tube_polys = np.arange(len(cylinder.data.polygons))
+    assert_no_flips(tube_data, [tube_polys])
+    assert covered_more_than_once(tube_data, tube_polys) == 0.0
+    # The summary's mean angle error is the mean over every triangle of both objects.
+    ours = (angle_distortion(data, np.arange(n * n)) * 2 * n * n + angle_distortion(tube_data, tube_polys) * 64) / (
+        2 * n * n + 64
+    )
+    assert summary["angle_mean"] == pytest.approx(ours, abs=1e-4)
+
+
 def test_vertices_snapped_together_do_not_stop_their_island():
     # Two vertices at one point, not merged: two zero-area triangles, which the library
     # refuses; the island is solved without them and every loop gets a UV.
