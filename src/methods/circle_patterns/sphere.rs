@@ -47,7 +47,9 @@ const BALANCE_ITERATIONS: usize = 500;
 
 /// The circle-pattern map of a closed genus-0 mesh onto the unit sphere (module comment): one
 /// position per vertex (NaN for unreferenced ones), not yet oriented outward, and the planar
-/// pattern's report.
+/// pattern's report. When a pole's planar solve fails numerically and the next pole is tried
+/// (4 poles at most), `progress` starts again from 0; the error of the first pole is returned
+/// when all fail.
 pub fn circle_pattern_sphere_map(
     mesh: &TriMesh,
     options: &CirclePatternOptions,
