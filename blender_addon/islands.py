@@ -148,27 +148,40 @@ def split_islands(
     loop_island = poly_island[loop_poly[island_loops]]
     loop_order = np.argsort(loop_island, kind="stable")
     island_loops = island_loops[loop_order]
-    loop_bounds = np.searchsorted(loop_island[loop_order], np.arange(n_islands + 1))
+    loop_island = loop_island[loop_order]
+    loop_bounds = np.searchsorted(loop_island, np.arange(n_islands + 1))
+
+    # Island vertices, all islands at once: a corner class (its root, the smallest loop) lies
+    # in one island, and each island numbers its classes in increasing root order.
+    roots = np.unique(corner[island_loops])
+    vertex_island = poly_island[loop_poly[roots]]
+    by_island = np.argsort(vertex_island, kind="stable")
+    roots, vertex_island = roots[by_island], vertex_island[by_island]
+    vertex_bounds = np.searchsorted(vertex_island, np.arange(n_islands + 1))
+    vertex_of_root = np.full(n_loops, -1, dtype=np.int64)
+    vertex_of_root[roots] = np.arange(len(roots)) - vertex_bounds[vertex_island]
+    all_positions = np.ascontiguousarray(positions[loop_vert[roots]], dtype=np.float64)
+    loop_vertex = vertex_of_root[corner[island_loops]]
+    tris = tri_loops[tri_order]
+    local = vertex_of_root[corner[tris]].astype(np.uint32)
+    diagonals = _diagonals(tris, loop_next)
 
     poly_order = selected_polys[np.argsort(island_of_poly, kind="stable")]
     poly_bounds = np.searchsorted(np.sort(island_of_poly), np.arange(n_islands + 1))
 
     islands = []
     for i in range(n_islands):
-        loops = island_loops[loop_bounds[i] : loop_bounds[i + 1]]
-        roots, loop_vertex = np.unique(corner[loops], return_inverse=True)
-        # Every root is a loop of the island (the smallest of its class), so it names a vertex.
-        tris = tri_loops[tri_order[tri_bounds[i] : tri_bounds[i + 1]]]
-        local = np.searchsorted(roots, corner[tris])
+        loops = slice(loop_bounds[i], loop_bounds[i + 1])
+        tri = slice(tri_bounds[i], tri_bounds[i + 1])
         islands.append(
             Island(
-                positions=np.ascontiguousarray(positions[loop_vert[roots]], dtype=np.float64),
-                triangles=np.ascontiguousarray(local, dtype=np.uint32),
+                positions=all_positions[vertex_bounds[i] : vertex_bounds[i + 1]],
+                triangles=local[tri],
                 polys=poly_order[poly_bounds[i] : poly_bounds[i + 1]],
-                loops=loops,
-                loop_vertex=loop_vertex.reshape(-1),
-                triangle_loops=tris,
-                triangle_diagonals=_diagonals(tris, loop_next),
+                loops=island_loops[loops],
+                loop_vertex=loop_vertex[loops],
+                triangle_loops=tris[tri],
+                triangle_diagonals=diagonals[tri],
             )
         )
     return Split(islands=islands, selected_polys=len(selected_polys))
@@ -271,8 +284,8 @@ def stacked_triangles(triangle_lists: Sequence[np.ndarray], vertex_counts: Seque
     the same order, and the island of each triangle: one numpy pass over a mesh's islands
     instead of one per island (a mesh may have thousands)."""
     offsets = np.concatenate([[0], np.cumsum(np.asarray(vertex_counts, dtype=np.int64))[:-1]])
-    tris = np.concatenate([np.asarray(t, dtype=np.int64).reshape(-1, 3) + o for t, o in zip(triangle_lists, offsets)])
     owner = np.repeat(np.arange(len(triangle_lists)), [len(t) for t in triangle_lists])
+    tris = np.concatenate(triangle_lists).astype(np.int64).reshape(-1, 3) + offsets[owner][:, None]
     return tris, owner
 
 
