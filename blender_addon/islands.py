@@ -332,13 +332,20 @@ def similarity_fit(source: np.ndarray, target: np.ndarray) -> Tuple[complex, com
     return a, complex(t.mean() - a * s.mean())
 
 
+def area_scale(area_3d: np.ndarray, area_uv: np.ndarray) -> np.ndarray:
+    """The uniform UV scales that make UV areas ``area_uv`` equal to ``area_3d`` (as Blender
+    does before packing, islands keep their relative sizes); 1 where either area is not
+    positive (or the UV area not finite)."""
+    area_3d, area_uv = np.asarray(area_3d, dtype=np.float64), np.asarray(area_uv, dtype=np.float64)
+    valid = (area_uv > 0) & np.isfinite(area_uv) & (area_3d > 0)
+    factor = np.ones(area_uv.shape)
+    factor[valid] = np.sqrt(area_3d[valid] / area_uv[valid])
+    return factor
+
+
 def scale_to_area(uv: np.ndarray, triangles: np.ndarray, area_3d: float) -> np.ndarray:
-    """``uv`` scaled uniformly so that its area equals ``area_3d`` (as Blender does before
-    packing, islands keep their relative sizes)."""
-    area_uv = float(triangle_areas(uv, triangles).sum())
-    if area_uv <= 0 or not np.isfinite(area_uv) or area_3d <= 0:
-        return uv
-    return uv * np.sqrt(area_3d / area_uv)
+    """``uv`` scaled uniformly so that its area equals ``area_3d`` (:func:`area_scale`)."""
+    return uv * float(area_scale(np.array([area_3d]), np.array([triangle_areas(uv, triangles).sum()]))[0])
 
 
 def shelf_layout(sizes: np.ndarray, margin: float) -> Tuple[np.ndarray, float]:

@@ -411,12 +411,9 @@ class UnwrapRun:
         tris, owner = isl.stacked_triangles([job.island.triangles for job in free], counts)
         positions = np.concatenate([job.island.positions for job in free])
         uv = np.concatenate([job.uv for job in free])
-        area_3d = isl.island_areas(positions, tris, owner, len(free))
-        area_uv = isl.island_areas(uv, tris, owner, len(free))
-        # isl.scale_to_area per island: unchanged where either area is not positive.
-        valid = (area_uv > 0) & np.isfinite(area_uv) & (area_3d > 0)
-        factor = np.ones(len(free))
-        factor[valid] = np.sqrt(area_3d[valid] / area_uv[valid])
+        factor = isl.area_scale(
+            isl.island_areas(positions, tris, owner, len(free)), isl.island_areas(uv, tris, owner, len(free))
+        )
         uv *= factor[vertex_owner][:, None]
         # from_square per island: an image wider than high squeezes u, a taller one v.
         aspect = np.array([self.meshes[job.obj_index][5] for job in free])[vertex_owner]
