@@ -45,6 +45,7 @@ pub mod methods;
 pub mod metrics;
 pub(crate) mod parallel;
 pub mod progress;
+pub mod verify;
 
 pub use boundary::{BoundaryShape, Distribution};
 pub use error::{Error, Result};

@@ -29,6 +29,7 @@ pub mod energy;
 pub mod jacobian;
 pub mod lbfgs;
 pub mod line_search;
+pub mod scaffold;
 pub mod slim;
 
 use crate::error::{Error, Result};
@@ -83,12 +84,15 @@ pub struct NonlinearOptions {
     pub tolerance: f64,
     /// θ of Degener's energy (> 0; ignored by the other methods).
     pub theta: f64,
+    /// Keep the whole map bijective, not only locally injective: the free boundary may not run
+    /// into itself ([`scaffold`], SCAF). SLIM only; the start must be bijective.
+    pub bijective: bool,
 }
 
 impl NonlinearOptions {
-    /// Defaults for `method`: 100 iterations, tolerance 1e-7, θ = 3.
+    /// Defaults for `method`: 100 iterations, tolerance 1e-7, θ = 3, locally injective only.
     pub fn new(method: NonlinearMethod) -> Self {
-        NonlinearOptions { method, iterations: 100, tolerance: 1e-7, theta: 3.0 }
+        NonlinearOptions { method, iterations: 100, tolerance: 1e-7, theta: 3.0, bijective: false }
     }
 }
 
@@ -129,12 +133,7 @@ pub fn nonlinear_map_with_progress(
     let problem = Problem::new(mesh);
     let x0 = problem.initial_map(mesh, options.method)?;
     progress.report(0.02)?;
-    let energy = options.method.energy(options.theta);
-    let run = match options.method {
-        NonlinearMethod::Slim => slim::minimize(&problem, x0, options, progress)?,
-        NonlinearMethod::Arap => arap::minimize(&problem, x0, options, progress)?,
-        _ => lbfgs::minimize(&problem, energy, x0, options, progress)?,
-    };
+    let run = run_method(&problem, x0, options, progress)?;
     progress.report(1.0)?;
     Ok(NonlinearResult {
         uv: problem.expand(&run.x),
@@ -166,18 +165,35 @@ pub fn nonlinear_map_from(
     let x0 = problem
         .oriented_and_scaled(initial)
         .ok_or_else(|| Error::InvalidArgument("the starting map has a flipped or degenerate triangle".into()))?;
-    let energy = options.method.energy(options.theta);
-    let run = match options.method {
-        NonlinearMethod::Slim => slim::minimize(&problem, x0, options, progress)?,
-        NonlinearMethod::Arap => arap::minimize(&problem, x0, options, progress)?,
-        _ => lbfgs::minimize(&problem, energy, x0, options, progress)?,
-    };
+    let run = run_method(&problem, x0, options, progress)?;
     Ok(NonlinearResult {
         uv: problem.expand(&run.x),
         energy: run.energy,
         iterations: run.iterations,
         converged: run.converged,
     })
+}
+
+/// Runs the method's minimizer from the flip-free start `x0`.
+fn run_method(
+    problem: &Problem,
+    x0: Vec<[f64; 2]>,
+    options: &NonlinearOptions,
+    progress: &mut Progress,
+) -> Result<Run> {
+    if options.bijective {
+        return match options.method {
+            NonlinearMethod::Slim => scaffold::minimize(problem, x0, options, progress),
+            other => Err(Error::InvalidArgument(format!(
+                "a bijective map is available for SLIM only, not {other:?} (run SLIM with bijective = true)"
+            ))),
+        };
+    }
+    match options.method {
+        NonlinearMethod::Slim => slim::minimize(problem, x0, options, progress),
+        NonlinearMethod::Arap => arap::minimize(problem, x0, options, progress),
+        _ => lbfgs::minimize(problem, options.method.energy(options.theta), x0, options, progress),
+    }
 }
 
 /// The mesh restricted to its referenced vertices, numbered consecutively.
