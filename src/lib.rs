@@ -45,6 +45,7 @@ pub mod methods;
 pub mod metrics;
 pub(crate) mod parallel;
 pub mod progress;
+pub mod unwrap;
 pub mod verify;
 
 pub use boundary::{BoundaryShape, Distribution};

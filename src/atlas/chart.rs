@@ -57,6 +57,9 @@ pub struct FlatChart {
     pub area: f64,
     /// Whether the chart's stretch has been polished already.
     pub polished: bool,
+    /// Whether the method's own flattening was refused and the chart was laid out by the
+    /// bijective repair (SLIM with a scaffold from the mean value map) instead.
+    pub repaired: bool,
 }
 
 /// Why a flattened chart was refused.
@@ -131,6 +134,8 @@ pub struct ChartSettings {
     pub polish: usize,
     /// Largest L2 stretch of an accepted chart.
     pub max_stretch: f64,
+    /// Repair a refused flattening before the chart is split: see [`repaired`].
+    pub repair: bool,
 }
 
 /// A chart whose first flattening has L2 stretch above the bound is polished (and may then be
@@ -155,11 +160,42 @@ pub fn flatten_chart(
     if let Some(map) = disk_to_chart {
         original = map.iter().map(|&v| original[v as usize]).collect();
     }
-    let Some(mut uv) = flatten(&disk, settings.method, settings.iterations) else { return Ok(Err(Refusal::Failed)) };
-    if let Err(refusal) = orient_and_check(&disk, &mut uv) {
-        return Ok(Err(refusal));
+    let flattened = flatten(&disk, settings.method, settings.iterations);
+    let judged = match flattened {
+        None => Err(Refusal::Failed),
+        Some(mut uv) => match orient_and_check(&disk, &mut uv) {
+            Err(refusal) => Err(refusal),
+            Ok(()) => {
+                let (stretch, area) = scale_to_area(&disk, &mut uv);
+                Ok((uv, stretch, area))
+            }
+        },
+    };
+    let over = |s: f64| !(s <= settings.max_stretch * (1.0 + STRETCH_ROUND_OFF));
+    // Only an invalid flattening is repaired: one that is merely over the bound is split, so
+    // that its pieces keep the method's distortion (a conformal map stays conformal).
+    if settings.repair && judged.is_err() {
+        if let Some((uv, stretch, area)) = repaired(&disk, settings.iterations) {
+            if over(stretch) {
+                return Ok(Err(Refusal::Stretch(stretch)));
+            }
+            let corners = disk.triangles().to_vec();
+            return Ok(Ok(FlatChart {
+                faces,
+                corners,
+                original,
+                uv,
+                stretch_l2: stretch,
+                area,
+                polished: true,
+                repaired: true,
+            }));
+        }
     }
-    let (mut stretch, area) = scale_to_area(&disk, &mut uv);
+    let (mut uv, mut stretch, area) = match judged {
+        Ok(j) => j,
+        Err(refusal) => return Ok(Err(refusal)),
+    };
     let mut polished = false;
     let gate = 1.0 + POLISH_GATE * (settings.max_stretch - 1.0);
     if stretch > settings.max_stretch && stretch <= gate && settings.polish > 0 {
@@ -172,7 +208,8 @@ pub fn flatten_chart(
     if !(stretch <= settings.max_stretch * (1.0 + STRETCH_ROUND_OFF)) {
         return Ok(Err(Refusal::Stretch(stretch)));
     }
-    Ok(Ok(FlatChart { faces, corners: disk.triangles().to_vec(), original, uv, stretch_l2: stretch, area, polished }))
+    let corners = disk.triangles().to_vec();
+    Ok(Ok(FlatChart { faces, corners, original, uv, stretch_l2: stretch, area, polished, repaired: false }))
 }
 
 /// Triangle `t` alone, laid out isometrically (its first edge along u, counter-clockwise):
@@ -196,6 +233,7 @@ pub fn exact_triangle_chart(mesh: &TriMesh, t: u32) -> Option<FlatChart> {
         stretch_l2: 1.0,
         area: 0.5 * twice_area,
         polished: true,
+        repaired: false,
     })
 }
 
@@ -246,7 +284,25 @@ pub fn flatten_disk(disk: TriMesh, original: Vec<u32>, method: ChartMethod, iter
         stretch_l2: stretch,
         area,
         polished: false,
+        repaired: false,
     })
+}
+
+/// The bijective repair: the mean value map with the outer boundary on a circle (an embedding,
+/// the holes filled temporarily: Tutte–Floater), then SLIM with a scaffold around the boundary
+/// (`methods::nonlinear::scaffold`), which keeps the map bijective while it frees the boundary
+/// and minimizes the symmetric Dirichlet energy. Returns the map scaled to the 3D area, its L2
+/// stretch and the 3D area; `None` when a step fails (a nearly degenerate chart).
+pub fn repaired(disk: &TriMesh, iterations: usize) -> Option<(Vec<[f64; 2]>, f64, f64)> {
+    let start = fixed_boundary_map(disk, &FixedBoundaryOptions::default()).ok()?;
+    let mut options = NonlinearOptions::new(NonlinearMethod::Slim);
+    options.iterations = iterations;
+    options.tolerance = 1e-5;
+    options.bijective = true;
+    let mut uv = nonlinear_map_from(disk, &options, &start, &mut Progress::none()).ok()?.uv;
+    orient_and_check(disk, &mut uv).ok()?;
+    let (stretch, area) = scale_to_area(disk, &mut uv);
+    Some((uv, stretch, area))
 }
 
 /// UVs of the disk by `method`; `None` when the method fails (numerically or otherwise).

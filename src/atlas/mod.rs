@@ -78,7 +78,13 @@ pub struct AtlasOptions {
     pub merge: bool,
     /// Iterations of L2-stretch polishing per chart (0: none): a chart slightly over the bound
     /// is polished before it is judged, and every accepted chart is polished at the end.
+    /// Polishing minimizes Sander's L2 stretch, so it lowers L2 and raises the angle error (a
+    /// natural conformal chart is no longer conformal).
     pub polish: usize,
+    /// Before a chart whose flattening flips or overlaps itself is split, lay it out by the
+    /// bijective repair (`chart::repaired`: SLIM with a
+    /// scaffold from the mean value map) and keep it whole when that is valid under the bound.
+    pub repair: bool,
 }
 
 impl Default for AtlasOptions {
@@ -91,6 +97,7 @@ impl Default for AtlasOptions {
             rotate: true,
             merge: true,
             polish: 10,
+            repair: false,
         }
     }
 }
@@ -104,6 +111,9 @@ pub struct ChartInfo {
     pub stretch_l2: f64,
     /// 3D area of the chart.
     pub area: f64,
+    /// Laid out by the bijective repair instead of the chosen method (see
+    /// [`AtlasOptions::repair`]).
+    pub repaired: bool,
 }
 
 /// A packed atlas.
@@ -132,6 +142,7 @@ impl AtlasOptions {
             iterations: self.iterations,
             polish: self.polish,
             max_stretch: self.max_stretch,
+            repair: self.repair,
         }
     }
 }
@@ -219,7 +230,7 @@ fn segment(mesh: &TriMesh, data: &FaceData, options: &AtlasOptions, progress: &m
     let mut pending = components(mesh);
     let mut accepted: Vec<FlatChart> = Vec::new();
     let mut done = 0usize;
-    let settings = options.chart_settings();
+    let mut settings = options.chart_settings();
     while !pending.is_empty() {
         let outcomes: Vec<Result<std::result::Result<FlatChart, (Vec<u32>, Vec<u32>)>>> = pending
             .into_par_iter()
@@ -248,6 +259,10 @@ fn segment(mesh: &TriMesh, data: &FaceData, options: &AtlasOptions, progress: &m
             }
         }
         progress.report(0.8 * done as f64 / total)?;
+        // The repair is for whole components; the halves of a split made for the stretch bound
+        // are split further instead, so they keep the method's distortion. Without a bound,
+        // only invalid maps are split, and the halves are repaired as well.
+        settings.repair = options.repair && options.max_stretch == f64::INFINITY;
     }
     Ok(accepted)
 }
@@ -289,7 +304,9 @@ fn merge_charts(mesh: &TriMesh, charts: Vec<FlatChart>, options: &AtlasOptions) 
     let size = |charts: &[Option<FlatChart>], c: u32| charts[c as usize].as_ref().map_or(0, |c| c.faces.len());
     let mut budget = MERGE_BUDGET * mesh.triangle_count();
     let mut tried = std::collections::HashSet::new();
-    let settings = options.chart_settings();
+    // A merged chart must be valid as the method lays it out: repairing every candidate would
+    // cost a bijective solve per merge.
+    let settings = ChartSettings { repair: false, ..options.chart_settings() };
     while budget > 0 {
         let mut pairs = shared_boundaries(mesh, &owner);
         pairs.sort_by(|x, y| {
@@ -402,7 +419,12 @@ fn assemble(mesh: &TriMesh, mut charts: Vec<FlatChart>, options: &AtlasOptions) 
             triangles[f as usize] = corners.map(|v| v + offset);
             chart_of_triangle[f as usize] = c as u32;
         }
-        infos.push(ChartInfo { triangles: chart.faces.len(), stretch_l2: chart.stretch_l2, area: chart.area });
+        infos.push(ChartInfo {
+            triangles: chart.faces.len(),
+            stretch_l2: chart.stretch_l2,
+            area: chart.area,
+            repaired: chart.repaired,
+        });
         weighted += chart.area * chart.stretch_l2 * chart.stretch_l2;
         area += chart.area;
     }

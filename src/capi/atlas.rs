@@ -152,6 +152,7 @@ pub unsafe extern "C" fn uvf_atlas(
             rotate: o.rotate != 0,
             merge: o.merge != 0,
             polish: o.polish_iterations as usize,
+            repair: false,
         };
         let mut callback = progress_closure(o.progress, o.progress_user);
         let atlas = atlas_with_progress(&mesh, &options, &mut Progress::new(&mut callback))?;
