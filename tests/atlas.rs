@@ -1,12 +1,15 @@
-//! Atlas mode and `--cut auto` on every closed and multi-hole mesh of `../shared/meshes`
-//! (`closed_*`, `holes_*`: genus 0 to 133):
+//! Atlas mode on every closed and multi-hole mesh of `../shared/meshes` (`closed_*`, `holes_*`:
+//! genus 0 to 133), and the default unwrap (`uvflat::unwrap`) on every manifold mesh there
+//! (`disk_*` as well):
 //! - zero flipped triangles: every UV triangle is counter-clockwise (the packer only rotates and
 //!   translates charts, so one orientation holds across the whole atlas) and not degenerate;
 //! - zero overlaps: no two UV triangles — of different charts, or of one chart — have
 //!   intersecting interiors, checked by a separating-axis test on every pair of triangles whose
 //!   bounding boxes share a cell of a uniform grid (this file's own geometry, not the library's);
-//! - every UV inside the unit square, every chart within the stretch bound, the reported atlas
-//!   stretch equal to `metrics::distortion`'s;
+//! - every UV inside the unit square, every chart within the stretch bound (the default unwrap's
+//!   islands measured one by one with `metrics::distortion`), the reported atlas stretch equal
+//!   to `metrics::distortion`'s; with the bound off, the default unwrap keeps every connected
+//!   component one island;
 //! - cut + flatten + unflatten: mapping each corner's UV vertex back to its input vertex gives
 //!   the input triangle, so every original vertex is reproduced exactly once per corner, and
 //!   corners of one input vertex share a UV vertex exactly when they are joined by an edge that
@@ -17,9 +20,11 @@
 use std::path::Path;
 use std::time::Instant;
 
-use uvflat::atlas::{atlas, cut_and_flatten, Atlas, AtlasOptions, ChartMethod, CUT_MAX_STRETCH};
+use uvflat::atlas::{atlas, Atlas, AtlasOptions, ChartMethod};
 use uvflat::io::obj::{read_obj, write_obj_with_corner_uv};
 use uvflat::metrics::distortion;
+use uvflat::unwrap::{unwrap, UnwrapOptions};
+use uvflat::verify::check_layout;
 use uvflat::TriMesh;
 
 const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
@@ -29,13 +34,19 @@ fn load(file: &str) -> TriMesh {
     TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"))
 }
 
-fn closed_and_holes() -> Vec<String> {
+/// Mesh files whose names start with one of `prefixes`, sorted.
+fn meshes(prefixes: &[&str]) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(MESH_DIR)
         .expect("mesh dir")
         .filter_map(|e| e.ok()?.file_name().into_string().ok())
-        .filter(|n| (n.starts_with("closed_") || n.starts_with("holes_")) && n.ends_with(".obj"))
+        .filter(|n| prefixes.iter().any(|p| n.starts_with(p)) && n.ends_with(".obj"))
         .collect();
     names.sort();
+    names
+}
+
+fn closed_and_holes() -> Vec<String> {
+    let names = meshes(&["closed_", "holes_"]);
     assert!(names.len() >= 20, "expected the closed_* and holes_* meshes in {MESH_DIR}");
     names
 }
@@ -208,36 +219,101 @@ fn check_atlas(
 }
 
 #[test]
-fn every_closed_and_multi_hole_mesh_unwraps_without_flips_or_overlaps() {
+fn every_closed_and_multi_hole_mesh_gets_an_atlas_without_flips_or_overlaps() {
     let options = AtlasOptions::default();
-    println!(
-        "{:<32} {:>7} | {:>6} {:>8} {:>7} {:>6} {:>7} | {:>6} {:>8} {:>7} {:>6} {:>7}",
-        "mesh", "faces", "atlas:", "charts", "L2", "util", "s", "cut:", "charts", "L2", "split", "s"
-    );
+    println!("{:<32} {:>7} {:>8} {:>7} {:>6} {:>7}", "mesh", "faces", "charts", "L2", "util", "s");
     let mut failures = Vec::new();
     for file in closed_and_holes() {
         let mesh = load(&file);
         let start = Instant::now();
         let a = atlas(&mesh, &options).unwrap_or_else(|e| panic!("{file}: atlas failed: {e}"));
-        let atlas_s = start.elapsed().as_secs_f64();
+        let seconds = start.elapsed().as_secs_f64();
         check_atlas(&file, &mesh, &a, options.max_stretch, &mut failures);
-        let start = Instant::now();
-        let (c, split) = cut_and_flatten(&mesh, options.margin).unwrap_or_else(|e| panic!("{file}: cut failed: {e}"));
-        let cut_s = start.elapsed().as_secs_f64();
-        check_atlas(&file, &mesh, &c, CUT_MAX_STRETCH, &mut failures);
         println!(
-            "{file:<32} {:>7} | {:>6} {:>8} {:>7.4} {:>6.3} {:>7.2} | {:>6} {:>8} {:>7.3} {:>6} {:>7.2}",
+            "{file:<32} {:>7} {:>8} {:>7.4} {:>6.3} {:>7.2}",
             mesh.triangle_count(),
-            "",
             a.charts.len(),
             a.stretch_l2,
             a.utilization,
-            atlas_s,
-            "",
-            c.charts.len(),
-            c.stretch_l2,
-            split,
-            cut_s
+            seconds
+        );
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// L2 stretch of each island, measured on its own triangles by `metrics::distortion`.
+fn island_stretches(mesh: &TriMesh, atlas: &Atlas) -> Vec<f64> {
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); atlas.charts.len()];
+    for (t, &c) in atlas.chart_of_triangle.iter().enumerate() {
+        members[c as usize].push(t);
+    }
+    members
+        .iter()
+        .map(|faces| {
+            let tris: Vec<[u32; 3]> = faces.iter().map(|&t| mesh.triangles()[t]).collect();
+            let uv_tris: Vec<[u32; 3]> = faces.iter().map(|&t| atlas.triangles[t]).collect();
+            distortion(mesh.points(), &tris, &atlas.uv, &uv_tris).expect("island metrics").stretch_l2
+        })
+        .collect()
+}
+
+/// The issue-level claim of the default unwrap, on every manifold mesh: no flipped triangle, no
+/// overlap (this file's triangle-pair test and the library's exact checker agree), every
+/// island's L2 stretch at most 1.5 by an independent measurement; with the bound off, one island
+/// per connected component and still no flip or overlap.
+#[test]
+fn the_default_unwrap_is_valid_on_every_manifold_mesh() {
+    let names: Vec<String> = meshes(&["disk_", "holes_", "closed_"])
+        .into_iter()
+        .filter(|n| !n.contains("_loop")) // the subdivided scaling meshes belong to the benches
+        .collect();
+    assert!(names.len() >= 40, "expected the disk_*, holes_* and closed_* meshes in {MESH_DIR}");
+    println!(
+        "{:<36} {:>7} | {:>7} {:>8} {:>7} {:>7} {:>6} | {:>9} {:>8} {:>6}",
+        "mesh", "faces", "islands", "repaired", "max L2", "angle°", "s", "∞:islands", "repaired", "s"
+    );
+    let mut failures = Vec::new();
+    let bounded = UnwrapOptions::default();
+    let free = UnwrapOptions { max_stretch: f64::INFINITY, ..UnwrapOptions::default() };
+    for file in names {
+        let mesh = load(&file);
+        let mut row = Vec::new();
+        for options in [&bounded, &free] {
+            let start = Instant::now();
+            let result = unwrap(&mesh, options).unwrap_or_else(|e| panic!("{file}: unwrap failed: {e}"));
+            let seconds = start.elapsed().as_secs_f64();
+            let a = &result.atlas;
+            check_atlas(&file, &mesh, a, options.max_stretch, &mut failures);
+            let exact = check_layout(&a.uv, &a.triangles);
+            if !exact.is_valid() {
+                failures.push(format!("{file}: exact checker: {exact:?}"));
+            }
+            let worst = island_stretches(&mesh, a).into_iter().fold(0.0, f64::max);
+            if options.max_stretch.is_finite() && !(worst <= options.max_stretch * (1.0 + 1e-9)) {
+                failures.push(format!("{file}: an island has L2 stretch {worst} > {}", options.max_stretch));
+            }
+            if options.max_stretch.is_infinite() && a.charts.len() != mesh.topology().components {
+                failures.push(format!(
+                    "{file}: {} islands without a bound, {} components",
+                    a.charts.len(),
+                    mesh.topology().components
+                ));
+            }
+            let angle = distortion(mesh.points(), mesh.triangles(), &a.uv, &a.triangles).expect("metrics").angle_mean;
+            row.push((a.charts.len(), result.report.repaired_islands, worst, angle.to_degrees(), seconds));
+        }
+        let (b, f) = (row[0], row[1]);
+        println!(
+            "{file:<36} {:>7} | {:>7} {:>8} {:>7.3} {:>7.3} {:>6.2} | {:>9} {:>8} {:>6.2}",
+            mesh.triangle_count(),
+            b.0,
+            b.1,
+            b.2,
+            b.3,
+            b.4,
+            f.0,
+            f.1,
+            f.4
         );
     }
     assert!(failures.is_empty(), "{failures:#?}");
@@ -276,7 +352,8 @@ fn cut_flatten_unflatten_reproduces_every_vertex_once_per_corner() {
     for (case, (n, m)) in [(3u32, 3u32), (4, 7), (9, 5), (16, 12), (30, 10)].into_iter().enumerate() {
         let mesh = torus(n, m, case as u64 + 1);
         let name = format!("torus {n}x{m}");
-        for result in [cut_and_flatten(&mesh, 0.01).map(|r| r.0), atlas(&mesh, &AtlasOptions::default())] {
+        let unwrapped = unwrap(&mesh, &UnwrapOptions { margin: 0.01, ..UnwrapOptions::default() }).map(|r| r.atlas);
+        for result in [unwrapped, atlas(&mesh, &AtlasOptions::default())] {
             let a = result.unwrap_or_else(|e| panic!("{name}: {e}"));
             check_atlas(&name, &mesh, &a, f64::INFINITY, &mut failures);
             // Through an OBJ file and back: the same corners, the same UVs.

@@ -269,25 +269,6 @@ fn polish(disk: &TriMesh, uv: &[[f64; 2]], iterations: usize) -> Option<(Vec<[f6
     Some((out, stretch))
 }
 
-/// Flattens an already cut disk (its vertices' input vertices in `original`) and returns it as
-/// a chart when the flattening is valid (conditions 1 and 2; no stretch bound).
-pub fn flatten_disk(disk: TriMesh, original: Vec<u32>, method: ChartMethod, iterations: usize) -> Option<FlatChart> {
-    let mut uv = flatten(&disk, method, iterations)?;
-    orient_and_check(&disk, &mut uv).ok()?;
-    let (stretch, area) = scale_to_area(&disk, &mut uv);
-    let faces: Vec<u32> = (0..disk.triangle_count() as u32).collect();
-    Some(FlatChart {
-        faces,
-        corners: disk.triangles().to_vec(),
-        original,
-        uv,
-        stretch_l2: stretch,
-        area,
-        polished: false,
-        repaired: false,
-    })
-}
-
 /// The bijective repair: the mean value map with the outer boundary on a circle (an embedding,
 /// the holes filled temporarily: Tutte–Floater), then SLIM with a scaffold around the boundary
 /// (`methods::nonlinear::scaffold`), which keeps the map bijective while it frees the boundary

@@ -438,29 +438,3 @@ fn assemble(mesh: &TriMesh, mut charts: Vec<FlatChart>, options: &AtlasOptions) 
         stretch_l2: (weighted / area).sqrt(),
     }
 }
-
-/// Largest L2 stretch `--cut auto` accepts for a chart. The single disk of a short cut graph
-/// of a closed surface is often valid but useless for texturing (its conformal map shrinks the
-/// far side by orders of magnitude: L2 stretch 10³–10⁶ on the cow, the armadillo and the bunny
-/// scan), so above this bound the mesh is split, like an atlas with this bound. 1.5 keeps most
-/// meshes in one to a few charts, against 1.004 for the atlas default.
-pub const CUT_MAX_STRETCH: f64 = 1.5;
-
-/// What `--cut auto` does with the default method: the mesh (one connected component) cut into
-/// one disk by `mesh::cut` and flattened by the natural conformal map; when that single chart
-/// flips, overlaps itself or has L2 stretch above [`CUT_MAX_STRETCH`], the mesh is instead split
-/// — only where needed — by the top-down segmentation into charts that are all valid and under
-/// that bound (an atlas with `max_stretch = CUT_MAX_STRETCH`), packed into the unit square.
-/// Returns the atlas and whether it had to be split.
-pub fn cut_and_flatten(mesh: &TriMesh, margin: f64) -> Result<(Atlas, bool)> {
-    let options = AtlasOptions { max_stretch: CUT_MAX_STRETCH, margin, ..AtlasOptions::default() };
-    check_options(&options)?;
-    let cut = crate::mesh::cut::cut_to_disk(mesh, &crate::mesh::cut::EdgeCost::default())?;
-    if let Some(chart) = chart::flatten_disk(cut.mesh, cut.original, options.method, options.iterations) {
-        if chart.stretch_l2 <= CUT_MAX_STRETCH {
-            let chart = polished(mesh, chart, options.polish)?;
-            return Ok((assemble(mesh, vec![chart], &options), false));
-        }
-    }
-    Ok((atlas(mesh, &options)?, true))
-}

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use uvflat::atlas::{atlas, cut_and_flatten, Atlas, AtlasOptions, ChartMethod};
+use uvflat::atlas::{atlas, Atlas, AtlasOptions, ChartMethod};
 use uvflat::io::obj::{read_obj, read_obj_geometry, write_obj_with_corner_uv, write_obj_with_uv, ObjMesh};
 use uvflat::io::surface_svg::{write_periodic_svg, write_polygon_mesh_svg, PeriodicPicture};
 use uvflat::io::svg::write_uv_svg;
@@ -33,6 +33,8 @@ use uvflat::methods::spectral_conformal::{spectral_conformal_map, SpectralOption
 use uvflat::methods::sphere::{spherical_map, SphereMethod, SphereOptions};
 use uvflat::metrics::{distortion, Metrics};
 use uvflat::progress::Progress;
+use uvflat::unwrap::{unwrap_with_progress, UnwrapOptions, UnwrapReport};
+use uvflat::verify::check_layout;
 use uvflat::{
     fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, Error, FixedBoundaryOptions, TriMesh,
     Weights,
@@ -267,7 +269,11 @@ struct UnwrapArgs {
     /// Output OBJ with one UV per vertex.
     #[arg(short = 'o', long = "output")]
     output: PathBuf,
-    /// Parameterization method (see `uvflat methods`); default natural-conformal.
+    /// Parameterization method (see `uvflat methods`). Without it, the default unwrap: islands
+    /// flattened by the natural conformal map, repaired by bijective SLIM where that flips or
+    /// overlaps, split where over --max-stretch, packed into the unit square and verified (no
+    /// flipped triangle, no overlap). A named method's own result is written as it is, with a
+    /// warning when it flips, overlaps or stretches.
     #[arg(long, value_enum)]
     method: Option<MethodName>,
     /// Boundary of fixed-boundary methods: `circle`, `square`, or a file of lines
@@ -287,9 +293,14 @@ struct UnwrapArgs {
     /// two). Default: the two boundary vertices farthest apart.
     #[arg(long = "pin")]
     pins: Vec<u32>,
-    /// Iteration limit of the non-linear methods (slim, arap, mips, ...); default 100.
+    /// Iteration limit of the non-linear methods (slim, arap, mips, ...) and of the default
+    /// unwrap's repair; default 100.
     #[arg(long)]
     iterations: Option<usize>,
+    /// slim: keep the whole map bijective (a scaffold around the free boundary, so the boundary
+    /// cannot run into itself), not only free of flipped triangles.
+    #[arg(long)]
+    bijective: bool,
     /// θ of the degener method (weight of area against angle distortion); default 3.
     #[arg(long)]
     theta: Option<f64>,
@@ -336,24 +347,28 @@ struct UnwrapArgs {
     /// Print one JSON object (method, seconds, metrics) instead of text.
     #[arg(long)]
     json: bool,
-    /// Cut the mesh into a disk first: `auto` (the default when the mesh is closed or has
-    /// handles) or `none`. UVs are then per corner (`vt` indices differ from `v` indices).
+    /// With --method: cut the mesh into a disk first, `auto` (the default when the mesh is
+    /// closed or has handles) or `none`; UVs are then per corner (`vt` indices differ from `v`
+    /// indices). Without --method, `none` runs the plain natural conformal map (no cut, no
+    /// repair, no packing).
     #[arg(long, value_enum)]
     cut: Option<CutMode>,
     /// Atlas mode: split into charts under a stretch bound, flatten each (natural-conformal by
     /// default; also mean-value, slim, stretch), pack them into the unit square.
     #[arg(long)]
     atlas: bool,
-    /// Atlas mode: largest L2 stretch per chart (default 1.004).
+    /// Largest L2 stretch of an island: default unwrap 1.5, --atlas 1.004; `inf` turns the
+    /// bound off (islands are split only where no valid layout is found).
     #[arg(long = "max-stretch")]
     max_stretch: Option<f64>,
-    /// Atlas mode (and split cuts): gap between packed charts in the unit square (default 0.005).
+    /// Default unwrap and --atlas: gap between packed islands in the unit square (default 0.005).
     #[arg(long)]
     margin: Option<f64>,
-    /// Atlas mode: do not rotate charts when packing.
+    /// Default unwrap and --atlas: do not rotate islands when packing.
     #[arg(long = "no-rotate")]
     no_rotate: bool,
-    /// Atlas mode: L2-stretch minimization iterations per chart (default 10; 0: none).
+    /// Atlas mode: L2-stretch polish iterations per chart (default 10; 0: none). Polishing
+    /// lowers the L2 stretch and raises the angle error (charts are no longer conformal).
     #[arg(long)]
     polish: Option<usize>,
 }
@@ -546,8 +561,8 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
     if args.atlas {
         return unwrap_atlas(args);
     }
-    if args.max_stretch.is_some() || args.no_rotate || args.polish.is_some() {
-        return Err(usage("--max-stretch, --no-rotate and --polish apply to --atlas only"));
+    if args.polish.is_some() {
+        return Err(usage("--polish applies to --atlas only"));
     }
     let obj = read_obj_geometry(&args.input)?;
     let start = Instant::now();
@@ -555,6 +570,12 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
         .map_err(|e| Failure { message: format!("{}: {e}", args.input.display()), usage: false })?;
     if !args.cones.is_empty() || args.auto_cones {
         return unwrap_cone_map(args, &obj, &mesh, start);
+    }
+    if args.method.is_none() && args.cut != Some(CutMode::None) {
+        return unwrap_default(args, &obj, &mesh, start);
+    }
+    if args.max_stretch.is_some() || args.no_rotate || args.margin.is_some() {
+        return Err(usage("--max-stretch, --margin and --no-rotate apply to the default unwrap and --atlas only"));
     }
     let cut_mode =
         args.cut.unwrap_or(if mesh.require_disk_with_holes().is_ok() { CutMode::None } else { CutMode::Auto });
@@ -569,15 +590,6 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
             Some(cut_to_disk(&mesh, &EdgeCost::default())?)
         }
     };
-    if args.margin.is_some() && (cut.is_none() || args.method.is_some()) {
-        return Err(usage("--margin applies to --atlas and to --cut auto with the default method only"));
-    }
-    if let (Some(_), None) = (&cut, args.method) {
-        // The default method on a cut mesh: flip-free and overlap-free, split where needed.
-        let (atlas, split) = cut_and_flatten(&mesh, args.margin.unwrap_or(AtlasOptions::default().margin))?;
-        let seconds = start.elapsed().as_secs_f64();
-        return report_atlas(args, &obj, &mesh, &atlas, seconds, Some(split));
-    }
     let work = cut.as_ref().map_or(&mesh, |c| &c.mesh);
     let (uv, extra) = run_method(work, args)?;
     let seconds = start.elapsed().as_secs_f64();
@@ -593,12 +605,15 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
         write_uv_svg(svg, &uv, &uv_triangles)?;
     }
     let metrics = distortion(mesh.points(), mesh.triangles(), &uv, &uv_triangles)?;
+    let overlaps = overlaps_of(&uv, &uv_triangles);
+    warn_if_unusable(method_label(args.method()), &metrics, overlaps);
     if args.json {
         let mut object = serde_json::json!({
             "method": method_label(args.method()),
             "seconds": seconds,
             "vertices": mesh.vertex_count(),
             "output": args.output.display().to_string(),
+            "overlaps": overlaps,
         });
         if let Some(c) = &cut {
             let (seam, total) = (c.seam_length(&mesh), total_edge_length(&mesh));
@@ -631,6 +646,62 @@ fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
         print_metrics_text(&metrics);
     }
     Ok(())
+}
+
+/// Overlaps of a raw layout by the independent checker, mirrored first when it is clockwise as
+/// a whole (a mirror image is not a map of flips).
+fn overlaps_of(uv: &[[f64; 2]], uv_triangles: &[[u32; 3]]) -> usize {
+    let mirrored: Vec<[f64; 2]>;
+    let layout = if uvflat::metrics::majority_orientation(uv, uv_triangles) < 0.0 {
+        mirrored = uv.iter().map(|p| [-p[0], p[1]]).collect();
+        &mirrored
+    } else {
+        uv
+    };
+    check_layout(layout, uv_triangles).overlaps
+}
+
+/// L2 stretch above which a named method's result is reported as hard to texture (the default
+/// unwrap's bound).
+const WARN_STRETCH: f64 = 1.5;
+
+/// A warning on stderr when a named method's layout flips, overlaps or stretches (the default
+/// unwrap never does).
+fn warn_if_unusable(method: &str, metrics: &Metrics, overlaps: usize) {
+    let mut problems = Vec::new();
+    if metrics.flipped + metrics.degenerate_uv > 0 {
+        problems.push(format!("{} flipped or degenerate triangles", metrics.flipped + metrics.degenerate_uv));
+    }
+    if overlaps > 0 {
+        problems.push(format!("{overlaps} overlapping boundary-edge pairs"));
+    }
+    if metrics.stretch_l2 > WARN_STRETCH {
+        problems.push(format!("L2 stretch {:.3} (above {WARN_STRETCH})", metrics.stretch_l2));
+    }
+    if !problems.is_empty() {
+        eprintln!(
+            "warning: the {method} layout has {}; run without --method for a layout without flips or overlaps",
+            problems.join(", ")
+        );
+    }
+}
+
+/// The default unwrap: the library's whole pipeline (valid by construction and verified).
+fn unwrap_default(args: &UnwrapArgs, obj: &ObjMesh, mesh: &TriMesh, start: Instant) -> Result<(), Failure> {
+    if !args.pins.is_empty() {
+        return Err(usage("--pin applies to --method natural-conformal, abf and abf++ only"));
+    }
+    let defaults = UnwrapOptions::default();
+    let options = UnwrapOptions {
+        max_stretch: args.max_stretch.unwrap_or(defaults.max_stretch),
+        margin: args.margin.unwrap_or(defaults.margin),
+        iterations: args.iterations.unwrap_or(defaults.iterations),
+        rotate: !args.no_rotate,
+        ..defaults
+    };
+    let result = unwrap_with_progress(mesh, &options, &mut Progress::none())?;
+    let seconds = start.elapsed().as_secs_f64();
+    report_atlas(args, obj, mesh, &result.atlas, seconds, Some(&result.report))
 }
 
 /// `--cone V:DEGREES` values as (vertex, curvature in radians).
@@ -769,6 +840,7 @@ fn unwrap_atlas(args: &UnwrapArgs) -> Result<(), Failure> {
         rotate: !args.no_rotate,
         merge: defaults.merge,
         polish: args.polish.unwrap_or(defaults.polish),
+        repair: defaults.repair,
     };
     let (obj, mesh) = load_mesh(&args.input)?;
     let start = Instant::now();
@@ -778,14 +850,14 @@ fn unwrap_atlas(args: &UnwrapArgs) -> Result<(), Failure> {
 }
 
 /// Writes an atlas (per-corner UVs) and prints its figures: charts, utilization, seam ratio,
-/// metrics; `split` tells, for `--cut auto`, whether the single chart had to be split.
+/// metrics; `unwrapped` holds the default unwrap's report (`None` for `--atlas`).
 fn report_atlas(
     args: &UnwrapArgs,
     obj: &ObjMesh,
     mesh: &TriMesh,
     atlas: &Atlas,
     seconds: f64,
-    split: Option<bool>,
+    unwrapped: Option<&UnwrapReport>,
 ) -> Result<(), Failure> {
     let flat: Vec<u32> = atlas.triangles.iter().flatten().copied().collect();
     write_obj_with_corner_uv(&args.output, &obj.positions, &obj.triangles, &atlas.uv, &flat)?;
@@ -794,10 +866,11 @@ fn report_atlas(
     }
     let metrics = distortion(mesh.points(), mesh.triangles(), &atlas.uv, &atlas.triangles)?;
     let (seam, total) = (atlas_seam_length(mesh, atlas), total_edge_length(mesh));
+    let label = if unwrapped.is_some() { "default" } else { method_label(args.method()) };
     if args.json {
         let mut object = serde_json::json!({
-            "method": method_label(args.method()),
-            "mode": if split.is_some() { "cut" } else { "atlas" },
+            "method": label,
+            "mode": if unwrapped.is_some() { "unwrap" } else { "atlas" },
             "seconds": seconds,
             "vertices": mesh.vertex_count(),
             "output": args.output.display().to_string(),
@@ -807,25 +880,39 @@ fn report_atlas(
             "seam_ratio": seam / total,
             "uv_vertices": atlas.uv.len(),
         });
-        if let Some(split) = split {
-            merge(&mut object, serde_json::json!({ "split": split }));
+        if let Some(r) = unwrapped {
+            merge(
+                &mut object,
+                serde_json::json!({
+                    "islands": r.islands,
+                    "repaired_islands": r.repaired_islands,
+                    "seam_edges": r.seam_edges,
+                    "overlaps": r.overlaps,
+                    "max_island_stretch": r.max_island_stretch,
+                }),
+            );
         }
         merge(&mut object, metrics.to_json());
         println!("{object}");
     } else {
         println!(
-            "{}{}: {} vertices, {} triangles, {:.3} s -> {}",
-            method_label(args.method()),
-            if split.is_some() { " (cut)" } else { " (atlas)" },
+            "{label}{}: {} vertices, {} triangles, {:.3} s -> {}",
+            if unwrapped.is_some() { " unwrap" } else { " (atlas)" },
             mesh.vertex_count(),
             mesh.triangle_count(),
             seconds,
             args.output.display()
         );
-        if split == Some(true) {
-            println!("  the single cut chart flipped or overlapped: split into the fewest valid charts found");
+        if let Some(r) = unwrapped {
+            println!(
+                "  islands                 {} ({} laid out by bijective SLIM: the natural conformal map flipped or overlapped)",
+                r.islands, r.repaired_islands
+            );
+            println!("  verified                {} flipped, {} overlaps", r.flipped, r.overlaps);
+            println!("  largest island L2       {:.4}", r.max_island_stretch);
+        } else {
+            println!("  charts                  {}", atlas.charts.len());
         }
-        println!("  charts                  {}", atlas.charts.len());
         println!("  utilization             {:.3}", atlas.utilization);
         println!("  seam                    {:.4} of total edge length", seam / total);
         print_metrics_text(&metrics);
@@ -849,7 +936,7 @@ fn atlas_seam_length(mesh: &TriMesh, atlas: &Atlas) -> f64 {
             let (p, q) = (mesh.points()[a as usize], mesh.points()[b as usize]);
             ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
         })
-        .sum()
+        .fold(0.0, |a, b| a + b) // not `sum`, whose empty sum is −0.0
 }
 
 fn sphere(args: &SphereArgs) -> Result<(), Failure> {
@@ -1340,10 +1427,13 @@ fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
             method_label(method)
         )));
     }
-    if !(nonlinear || method == MethodName::BoundaryOptimized) && args.iterations.is_some() {
+    if args.method.is_some() && !(nonlinear || method == MethodName::BoundaryOptimized) && args.iterations.is_some() {
         return Err(usage(
             "--iterations applies to the non-linear methods (slim, arap, mips, stretch, green-lagrange, degener) and boundary-optimized",
         ));
+    }
+    if method != MethodName::Slim && args.bijective {
+        return Err(usage("--bijective applies to --method slim only"));
     }
     if method != MethodName::Degener && args.theta.is_some() {
         return Err(usage("--theta applies to --method degener only"));
@@ -1421,6 +1511,7 @@ fn run_method(mesh: &TriMesh, args: &UnwrapArgs) -> Result<(Vec<[f64; 2]>, serde
         let mut options = NonlinearOptions::new(method);
         options.iterations = args.iterations.unwrap_or(options.iterations);
         options.theta = args.theta.unwrap_or(options.theta);
+        options.bijective = args.bijective;
         return Ok(plain(nonlinear_map(mesh, &options)?.uv));
     }
     let weights = match method {
