@@ -504,6 +504,11 @@ typedef struct UvfPgpCharts UvfPgpCharts;
 typedef struct UvfQuadMesh UvfQuadMesh;
 
 /**
+ * The result of `uvf_unwrap`: released with `uvf_unwrap_free`.
+ */
+typedef struct UvfUnwrap UvfUnwrap;
+
+/**
  * Progress callback: receives the caller's `user` pointer and the fraction done in [0, 1];
  * returning non-zero cancels the computation (the call then returns `UVF_CANCELLED`).
  */
@@ -1352,6 +1357,11 @@ typedef struct UvfNonlinearOptions {
    * Passed to `progress` unchanged.
    */
   void *progress_user;
+  /**
+   * Non-zero: keep the whole map bijective (SLIM only): a scaffold around the free boundary
+   * (Jiang et al. 2017) keeps the boundary from running into itself (default 0).
+   */
+  uint32_t bijective;
 } UvfNonlinearOptions;
 
 /**
@@ -1741,6 +1751,99 @@ typedef struct UvfQuadCoverReport {
    */
   uint32_t forced_flat_count;
 } UvfQuadCoverReport;
+
+/**
+ * Options of `uvf_unwrap`. Initialise with `uvf_unwrap_options_default`.
+ */
+typedef struct UvfUnwrapOptions {
+  /**
+   * `sizeof(UvfUnwrapOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * Largest L2 stretch of an island, ≥ 1 (default 1.5); `INFINITY` turns the bound off:
+   * every connected component stays one island (split only if no valid layout is found).
+   */
+  double max_stretch;
+  /**
+   * Gap between islands in the unit square, in [0, 0.5) (default 0.005).
+   */
+  double margin;
+  /**
+   * How islands are flattened before verification: one of `UVF_ATLAS_CHART_*` (default
+   * natural conformal).
+   */
+  uint32_t method;
+  /**
+   * Iteration limit of the non-linear solves, the bijective repair included (default 100).
+   */
+  uint32_t iterations;
+  /**
+   * Non-zero: the packer may rotate islands (default 1).
+   */
+  uint32_t rotate;
+  /**
+   * Optional progress callback (may be NULL); returning non-zero cancels with
+   * `UVF_CANCELLED`.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfUnwrapOptions;
+
+/**
+ * What `uvf_unwrap` did, measured on its result. The caller sets `struct_size` (to
+ * `sizeof(UvfUnwrapReport)`); `uvf_unwrap_report` writes only that many bytes, so a caller
+ * built against an older, shorter struct keeps working when fields are appended.
+ */
+typedef struct UvfUnwrapReport {
+  /**
+   * `sizeof(UvfUnwrapReport)`, set by the caller.
+   */
+  size_t struct_size;
+  /**
+   * Islands of the layout.
+   */
+  size_t islands;
+  /**
+   * Islands the method could not lay out validly, laid out by bijective SLIM instead.
+   */
+  size_t repaired_islands;
+  /**
+   * Input edges cut (see `uvf_unwrap_copy_seams`).
+   */
+  size_t seam_edges;
+  /**
+   * UV vertices (one per island vertex).
+   */
+  size_t uv_vertex_count;
+  /**
+   * Flipped or degenerate UV triangles, by the independent exact checker (always 0).
+   */
+  size_t flipped;
+  /**
+   * Touching boundary-edge pairs and nested islands, by the same checker (always 0).
+   */
+  size_t overlaps;
+  /**
+   * L2 stretch of the whole layout (Sander et al. 2001; 1 = isometric up to scale).
+   */
+  double stretch_l2;
+  /**
+   * Largest L2 stretch of one island.
+   */
+  double max_island_stretch;
+  /**
+   * Mean angle distortion over corners, in degrees.
+   */
+  double angle_error_mean_deg;
+  /**
+   * Fraction of the unit square covered by islands.
+   */
+  double utilization;
+} UvfUnwrapReport;
 
 #ifdef __cplusplus
 extern "C" {
@@ -2980,6 +3083,84 @@ enum UvfStatus uvf_quadcover_quad_mesh(const double *positions,
                                        double density,
                                        struct UvfQuadMesh **mesh_out,
                                        struct UvfQuadCoverReport *report_out);
+
+/**
+ * Fills `options` with defaults.
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_unwrap_options_default(struct UvfUnwrapOptions *options);
+
+/**
+ * UVs for any manifold mesh in one call — disk, holes, closed, any genus, several
+ * components: every component starts as one island (cut into a disk by a tree–cotree cut when
+ * closed or with handles), flattened by `method`; an island whose map flips a triangle or
+ * overlaps its boundary is laid out again by bijective SLIM (a scaffold around the free
+ * boundary, Jiang et al. 2017), and one over `max_stretch` is split in two (VSA on normals)
+ * until every piece is valid under the bound; adjacent islands are merged back where still
+ * valid, then all are packed into the unit square at one texel density.
+ *
+ * The result is verified with an exact checker independent of the method: no flipped or
+ * degenerate UV triangle, no overlap within or between islands, every UV finite and in
+ * [0, 1]² — a layout failing that is returned as `UVF_INTERNAL_ERROR`, never as a result.
+ * On success `*unwrap_out` receives a handle to free with `uvf_unwrap_free`; `options` may be
+ * NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointer, bad option),
+ * `UVF_INVALID_MESH`, `UVF_NUMERICAL_FAILURE` (a triangle too degenerate to lay out alone),
+ * `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`; on failure `*unwrap_out` is untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `unwrap_out` must be writable.
+ */
+enum UvfStatus uvf_unwrap(const double *positions,
+                          size_t vertex_count,
+                          const uint32_t *triangles,
+                          size_t triangle_count,
+                          const struct UvfUnwrapOptions *options,
+                          struct UvfUnwrap **unwrap_out);
+
+/**
+ * The report of an unwrap, written into `report_out` up to `report_out->struct_size` bytes
+ * (which the caller sets, at least the size of its first two fields). Returns `UVF_OK` or
+ * `UVF_INVALID_ARGUMENT` (NULL, `struct_size` too small; nothing written).
+ *
+ * # Safety
+ * `unwrap` must be a live handle or NULL; `report_out` must be NULL or point to at least
+ * `report_out->struct_size` writable bytes.
+ */
+enum UvfStatus uvf_unwrap_report(const struct UvfUnwrap *unwrap,
+                                 struct UvfUnwrapReport *report_out);
+
+/**
+ * The packed layout as an atlas handle, read with `uvf_atlas_info`, `uvf_atlas_copy_uv`,
+ * `uvf_atlas_copy_triangles` (per-corner UV indices), `uvf_atlas_copy_corner_uv`,
+ * `uvf_atlas_copy_charts` (island per triangle) and `uvf_atlas_copy_original_vertices`. It
+ * belongs to the unwrap handle: valid until `uvf_unwrap_free`, and never passed to
+ * `uvf_atlas_free`. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
+ *
+ * # Safety
+ * `unwrap` must be a live handle or NULL; `atlas_out` writable.
+ */
+enum UvfStatus uvf_unwrap_atlas(const struct UvfUnwrap *unwrap, const struct UvfAtlas **atlas_out);
+
+/**
+ * The cut input edges: `2 × seam_edges` input vertex indices, pairs `a < b`, sorted. Returns
+ * `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL, capacity too small; output untouched).
+ *
+ * # Safety
+ * `unwrap` must be a live handle or NULL; `seams_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_unwrap_copy_seams(const struct UvfUnwrap *unwrap,
+                                     uint32_t *seams_out,
+                                     size_t capacity);
+
+/**
+ * Releases an unwrap handle and its layout (NULL is ignored).
+ *
+ * # Safety
+ * `unwrap` must come from `uvf_unwrap` and not have been freed.
+ */
+void uvf_unwrap_free(struct UvfUnwrap *unwrap);
 
 #ifdef __cplusplus
 }  // extern "C"

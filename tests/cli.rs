@@ -38,7 +38,17 @@ fn count_lines(path: &Path, prefix: &str) -> usize {
 #[test]
 fn unwrap_writes_obj_with_one_uv_per_vertex_and_an_svg() {
     let (out, svg) = (scratch("n.obj"), scratch("n.svg"));
-    let o = uvflat(&["unwrap", SAMPLE, "-o", out.to_str().unwrap(), "--svg", svg.to_str().unwrap(), "--json"]);
+    let o = uvflat(&[
+        "unwrap",
+        SAMPLE,
+        "-o",
+        out.to_str().unwrap(),
+        "--method",
+        "natural-conformal",
+        "--svg",
+        svg.to_str().unwrap(),
+        "--json",
+    ]);
     let report = json(&o);
     assert_eq!(report["method"], "natural-conformal");
     assert_eq!(report["flipped"], 0);
@@ -178,7 +188,20 @@ fn boundary_file_fixes_the_given_vertices() {
 #[test]
 fn pins_are_placed_where_documented() {
     let out = scratch("pinned.obj");
-    json(&uvflat(&["unwrap", SAMPLE, "-o", out.to_str().unwrap(), "--pin", "3", "--pin", "17", "--json"]));
+    let out_s = out.to_str().unwrap();
+    json(&uvflat(&[
+        "unwrap",
+        SAMPLE,
+        "-o",
+        out_s,
+        "--method",
+        "natural-conformal",
+        "--pin",
+        "3",
+        "--pin",
+        "17",
+        "--json",
+    ]));
     let mesh = uvflat::io::obj::read_obj(&out).unwrap();
     assert_eq!([mesh.uv[6], mesh.uv[7]], [0.0, 0.0]);
     assert_eq!(mesh.uv[35], 0.0);
@@ -357,7 +380,7 @@ fn options_that_do_not_apply_are_usage_errors() {
         let o = uvflat(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
     }
-    let o = uvflat(&["unwrap", SAMPLE, "-o", out, "--pin", "1", "--pin", "100000"]);
+    let o = uvflat(&["unwrap", SAMPLE, "-o", out, "--method", "natural-conformal", "--pin", "1", "--pin", "100000"]);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("100000"), "{}", stderr(&o));
     let o = uvflat(&["metrics", SAMPLE]);
@@ -411,7 +434,49 @@ fn unwrap_cuts_closed_meshes_and_writes_per_corner_uvs() {
     let report =
         json(&uvflat(&["unwrap", &format!("{MESHES}/closed_g0_cow.obj"), "-o", out.to_str().unwrap(), "--json"]));
     assert_eq!(report["flipped"], 0, "{report}");
-    assert_eq!(report["mode"], "cut", "{report}");
+    assert_eq!(report["mode"], "unwrap", "{report}");
+}
+
+#[test]
+fn the_default_unwrap_is_verified_and_a_folding_method_is_warned_about() {
+    let out = scratch("peaks.obj");
+    let input = format!("{MESHES}/disk_three_peaks.obj");
+    // The natural conformal map flips 30 triangles here: the default repairs the island.
+    let report = json(&uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--json"]));
+    assert_eq!((report["method"].as_str(), report["mode"].as_str()), (Some("default"), Some("unwrap")), "{report}");
+    assert_eq!((report["flipped"].as_u64(), report["overlaps"].as_u64()), (Some(0), Some(0)), "{report}");
+    assert_eq!((report["islands"].as_u64(), report["repaired_islands"].as_u64()), (Some(1), Some(1)), "{report}");
+    assert!(report["max_island_stretch"].as_f64().is_some_and(|s| s <= 1.5), "{report}");
+    let measured = json(&uvflat(&["metrics", out.to_str().unwrap(), "--json"]));
+    assert_eq!((measured["flipped"].as_u64(), measured["boundary_intersections"].as_u64()), (Some(0), Some(0)));
+    // Named, the method's own result is kept, and stderr says what is wrong with it.
+    let o = uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--method", "natural-conformal", "--json"]);
+    let raw = json(&o);
+    assert_eq!(raw["flipped"], 30, "{raw}");
+    assert!(stderr(&o).contains("warning: the natural-conformal layout has 30 flipped"), "{}", stderr(&o));
+    // Without a stretch bound the island is never split.
+    let o = uvflat(&[
+        "unwrap",
+        &format!("{MESHES}/closed_g0_cow.obj"),
+        "-o",
+        out.to_str().unwrap(),
+        "--max-stretch",
+        "inf",
+        "--json",
+    ]);
+    let free = json(&o);
+    assert_eq!(
+        (free["islands"].as_u64(), free["flipped"].as_u64(), free["overlaps"].as_u64()),
+        (Some(1), Some(0), Some(0))
+    );
+    // Options of the default unwrap are refused where they do not apply.
+    for args in [
+        vec!["unwrap", input.as_str(), "-o", out.to_str().unwrap(), "--method", "tutte", "--max-stretch", "2"],
+        vec!["unwrap", input.as_str(), "-o", out.to_str().unwrap(), "--polish", "3"],
+        vec!["unwrap", input.as_str(), "-o", out.to_str().unwrap(), "--method", "arap", "--bijective"],
+    ] {
+        assert_eq!(uvflat(&args).status.code(), Some(2), "{args:?}");
+    }
 }
 
 #[test]

@@ -91,6 +91,21 @@ pub struct UvfAtlas {
     info: UvfAtlasInfo,
 }
 
+impl UvfAtlas {
+    /// The handle's contents for a computed atlas.
+    pub(crate) fn new(atlas: Atlas) -> Self {
+        let info = UvfAtlasInfo {
+            vertex_count: atlas.uv.len(),
+            triangle_count: atlas.triangles.len(),
+            chart_count: atlas.charts.len(),
+            utilization: atlas.utilization,
+            stretch_l2: atlas.stretch_l2,
+            max_chart_stretch: atlas.charts.iter().map(|c| c.stretch_l2).fold(0.0, f64::max),
+        };
+        UvfAtlas { atlas, info }
+    }
+}
+
 /// Fills `options` with defaults.
 ///
 /// # Safety
@@ -156,15 +171,7 @@ pub unsafe extern "C" fn uvf_atlas(
         };
         let mut callback = progress_closure(o.progress, o.progress_user);
         let atlas = atlas_with_progress(&mesh, &options, &mut Progress::new(&mut callback))?;
-        let info = UvfAtlasInfo {
-            vertex_count: atlas.uv.len(),
-            triangle_count: atlas.triangles.len(),
-            chart_count: atlas.charts.len(),
-            utilization: atlas.utilization,
-            stretch_l2: atlas.stretch_l2,
-            max_chart_stretch: atlas.charts.iter().map(|c| c.stretch_l2).fold(0.0, f64::max),
-        };
-        out[0] = Box::into_raw(Box::new(UvfAtlas { atlas, info }));
+        out[0] = Box::into_raw(Box::new(UvfAtlas::new(atlas)));
         Ok(())
     })
 }

@@ -19,6 +19,7 @@ pub mod metrics;
 pub mod nonlinear;
 pub mod pgp;
 pub mod quadcover;
+pub mod unwrap;
 
 use crate::error::{Error, Result, UvfStatus};
 use crate::TriMesh;

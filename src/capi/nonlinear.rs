@@ -40,6 +40,9 @@ pub struct UvfNonlinearOptions {
     pub progress: UvfProgressFn,
     /// Passed to `progress` unchanged.
     pub progress_user: *mut c_void,
+    /// Non-zero: keep the whole map bijective (SLIM only): a scaffold around the free boundary
+    /// (Jiang et al. 2017) keeps the boundary from running into itself (default 0).
+    pub bijective: u32,
 }
 
 impl Default for UvfNonlinearOptions {
@@ -53,6 +56,7 @@ impl Default for UvfNonlinearOptions {
             theta: d.theta,
             progress: None,
             progress_user: std::ptr::null_mut(),
+            bijective: d.bijective as u32,
         }
     }
 }
@@ -83,7 +87,8 @@ pub unsafe extern "C" fn uvf_nonlinear_options_default(options: *mut UvfNonlinea
     }
 }
 
-const NONLINEAR_OPTIONS_V1: usize = std::mem::size_of::<UvfNonlinearOptions>();
+/// Size of the first version of the struct (before `bijective`): older callers stay accepted.
+const NONLINEAR_OPTIONS_V1: usize = std::mem::offset_of!(UvfNonlinearOptions, bijective);
 
 fn method_from(code: u32) -> Result<NonlinearMethod> {
     Ok(match code {
@@ -140,6 +145,7 @@ pub unsafe extern "C" fn uvf_nonlinear_map(
         opts.iterations = o.iterations as usize;
         opts.tolerance = o.tolerance;
         opts.theta = o.theta;
+        opts.bijective = o.bijective != 0;
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         if (report_out as usize) % std::mem::align_of::<UvfNonlinearReport>() != 0 {

@@ -977,17 +977,10 @@ static void check_pgp(void) {
 
 /* uvf_atlas: a torus becomes charts without flips, packed into the unit square; the handle's
  * accessors agree with each other; bad options and a cancelling callback are refused. */
-static void check_atlas(void) {
-    enum { AN = 16, AM = 8 };
-    static double pos[3 * AN * AM], uv[2 * 8 * AN * AM], corner_uv[12 * AN * AM];
-    static uint32_t tris[6 * AN * AM], uv_tris[6 * AN * AM], charts[2 * AN * AM], original[8 * AN * AM];
-    UvfAtlasOptions options;
-    UvfAtlasInfo info;
-    UvfAtlas *atlas = NULL;
-    UvfMetrics metrics;
-    UvfStatus status;
-    int i, j, t = 0, calls = 0;
-    size_t k;
+/* A 16 x 8 torus: 128 vertices, 256 triangles. */
+enum { AN = 16, AM = 8 };
+static void torus(double *pos, uint32_t *tris) {
+    int i, j, t = 0;
     for (i = 0; i < AN; i++)
         for (j = 0; j < AM; j++) {
             double u = 6.283185307179586 * i / AN, v = 6.283185307179586 * j / AM, r = 2.0 + cos(v);
@@ -1002,6 +995,19 @@ static void check_atlas(void) {
             uint32_t *q = tris + 6 * t++;
             q[0] = a; q[1] = b; q[2] = c; q[3] = a; q[4] = c; q[5] = d;
         }
+}
+
+static void check_atlas(void) {
+    static double pos[3 * AN * AM], uv[2 * 8 * AN * AM], corner_uv[12 * AN * AM];
+    static uint32_t tris[6 * AN * AM], uv_tris[6 * AN * AM], charts[2 * AN * AM], original[8 * AN * AM];
+    UvfAtlasOptions options;
+    UvfAtlasInfo info;
+    UvfAtlas *atlas = NULL;
+    UvfMetrics metrics;
+    UvfStatus status;
+    int calls = 0;
+    size_t k;
+    torus(pos, tris);
     uvf_atlas_options_default(&options);
     check(options.struct_size == sizeof options && options.max_stretch >= 1.0 && options.rotate == 1, "atlas defaults");
     options.max_stretch = 1.05;
@@ -1039,6 +1045,71 @@ static void check_atlas(void) {
     options.progress_user = &calls;
     status = uvf_atlas(pos, AN * AM, tris, 2 * AN * AM, &options, &atlas);
     check(status == UVF_CANCELLED && atlas == NULL && calls == 1, "atlas progress callback cancels");
+}
+
+/* The default unwrap: verified layout, seams, report written only up to its struct_size. */
+static void check_unwrap(void) {
+    static double pos[3 * AN * AM], uv[2 * 8 * AN * AM];
+    static uint32_t tris[6 * AN * AM], uv_tris[6 * AN * AM], seams[6 * AN * AM];
+    static unsigned char old_report[sizeof(UvfUnwrapReport) + 16];
+    const size_t cut = offsetof(UvfUnwrapReport, seam_edges);
+    UvfUnwrapOptions options;
+    UvfUnwrapReport report;
+    UvfUnwrapReport *old = (UvfUnwrapReport *)(void *)old_report;
+    UvfUnwrap *result = NULL;
+    const UvfAtlas *layout = NULL;
+    UvfAtlasInfo info;
+    UvfMetrics metrics;
+    UvfStatus status;
+    size_t k;
+    int calls = 0, untouched = 1;
+    torus(pos, tris);
+    uvf_unwrap_options_default(&options);
+    check(options.struct_size == sizeof options && options.max_stretch == 1.5 && options.rotate == 1, "unwrap defaults");
+    status = uvf_unwrap(pos, AN * AM, tris, 2 * AN * AM, &options, &result);
+    check(status == UVF_OK && result != NULL, "a torus unwraps");
+    if (result == NULL) return;
+    report.struct_size = sizeof report;
+    check(uvf_unwrap_report(result, &report) == UVF_OK, "unwrap report");
+    check(report.flipped == 0 && report.overlaps == 0 && report.islands >= 1, "verified: no flip, no overlap");
+    check(report.max_island_stretch <= 1.5 && report.seam_edges > 0, "islands under the bound, the torus is cut");
+    check(uvf_unwrap_atlas(result, &layout) == UVF_OK && layout != NULL, "the layout as an atlas handle");
+    check(uvf_atlas_info(layout, &info) == UVF_OK && info.chart_count == report.islands, "atlas info agrees");
+    check(info.vertex_count == report.uv_vertex_count && info.vertex_count <= 8 * AN * AM, "uv vertex count");
+    check(uvf_atlas_copy_uv(layout, uv, 2 * info.vertex_count) == UVF_OK, "copy the layout's uv");
+    check(uvf_atlas_copy_triangles(layout, uv_tris, 3 * info.triangle_count) == UVF_OK, "copy its corners");
+    status = uvf_metrics(pos, AN * AM, tris, info.triangle_count, uv, info.vertex_count, uv_tris, &metrics);
+    check(status == UVF_OK && metrics.flipped == 0 && metrics.boundary_intersections == 0, "metrics agree: no flip");
+    check(uvf_unwrap_copy_seams(result, seams, 2 * report.seam_edges - 1) == UVF_INVALID_ARGUMENT, "small seams capacity");
+    check(uvf_unwrap_copy_seams(result, seams, 2 * report.seam_edges) == UVF_OK, "copy seams");
+    for (k = 0; k < report.seam_edges; k++)
+        check(seams[2 * k] < seams[2 * k + 1] && seams[2 * k + 1] < AN * AM, "seams are vertex pairs a < b");
+    /* A caller built against a shorter report: nothing past its struct_size is written. */
+    memset(old_report, 0xAB, sizeof old_report);
+    old->struct_size = cut;
+    check(uvf_unwrap_report(result, old) == UVF_OK && old->islands == report.islands, "an older, shorter report");
+    for (k = cut; k < sizeof old_report; k++) untouched &= old_report[k] == 0xAB;
+    check(untouched, "no byte past the caller's struct_size is touched");
+    old->struct_size = 4;
+    check(uvf_unwrap_report(result, old) == UVF_INVALID_ARGUMENT, "a struct_size below the first fields is refused");
+    uvf_unwrap_free(result);
+    uvf_unwrap_free(NULL);
+    check(uvf_unwrap_report(NULL, &report) == UVF_INVALID_ARGUMENT, "NULL unwrap handle is rejected");
+    /* Without a stretch bound the torus is one island. */
+    result = NULL;
+    options.max_stretch = INFINITY;
+    check(uvf_unwrap(pos, AN * AM, tris, 2 * AN * AM, &options, &result) == UVF_OK, "unwrap without a bound");
+    check(result != NULL && uvf_unwrap_report(result, &report) == UVF_OK && report.islands == 1, "one island");
+    uvf_unwrap_free(result);
+    result = NULL;
+    options.max_stretch = 0.5;
+    check(uvf_unwrap(pos, AN * AM, tris, 2 * AN * AM, &options, &result) == UVF_INVALID_ARGUMENT && result == NULL,
+          "max_stretch < 1 is rejected");
+    uvf_unwrap_options_default(&options);
+    options.progress = cancel_first;
+    options.progress_user = &calls;
+    status = uvf_unwrap(pos, AN * AM, tris, 2 * AN * AM, &options, &result);
+    check(status == UVF_CANCELLED && result == NULL && calls == 1, "unwrap progress callback cancels");
 }
 
 int main(void) {
@@ -1118,6 +1189,7 @@ int main(void) {
     check_closed_surfaces();
     check_pgp();
     check_atlas();
+    check_unwrap();
 
     if (failures == 0) printf("all C checks passed\n");
     return failures == 0 ? 0 : 1;
