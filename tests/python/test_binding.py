@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ctypes
 import json
+import math
 import os
 import re
 import shutil
@@ -1213,6 +1214,67 @@ def test_atlas_of_a_genus_one_mesh_is_flip_free_inside_the_unit_square():
         uvflat.atlas(p, t, polish_iterations=-1)
     plain = uvflat.atlas(p, t, max_stretch=1.05, margin=0.01, polish_iterations=0)
     assert plain.max_chart_stretch <= 1.05 and plain.stretch_l2 >= a.stretch_l2
+
+
+def boundary_crossings(uv, uv_triangles):
+    """Pairs of UV boundary edges (used by one triangle) that cross or touch, sharing no
+    endpoint: an all-pairs segment test written out here, independent of the library."""
+    e = np.concatenate([uv_triangles[:, [0, 1]], uv_triangles[:, [1, 2]], uv_triangles[:, [2, 0]]])
+    key, count = np.unique(np.sort(e, axis=1), axis=0, return_counts=True)
+    b = key[count == 1]
+    a0, a1 = uv[b[:, 0]], uv[b[:, 1]]
+
+    def orient(p, q, r):
+        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+
+    P, Q = a0[:, None], a1[:, None]
+    R, S = a0[None, :], a1[None, :]
+    crossing = (orient(P, Q, R) * orient(P, Q, S) <= 0) & (orient(R, S, P) * orient(R, S, Q) <= 0)
+    shares = (b[:, None, 0] == b[None, :, 0]) | (b[:, None, 0] == b[None, :, 1])
+    shares |= (b[:, None, 1] == b[None, :, 0]) | (b[:, None, 1] == b[None, :, 1])
+    return int(np.triu(crossing & ~shares, 1).sum())
+
+
+def test_unwrap_is_flip_and_overlap_free_where_the_conformal_map_folds():
+    p, t = load_mesh("disk_three_peaks.obj")
+    folded = uvflat.metrics(p, t, uvflat.natural_conformal_map(p, t))
+    assert folded.flipped > 0  # the reason for the default's repair
+    r = uvflat.unwrap(p, t)
+    assert r.report.flipped == 0 and r.report.overlaps == 0 and r.report.repaired_islands >= 1
+    assert (r.original_vertices[r.triangles] == t).all()
+    assert ((r.uv >= 0) & (r.uv <= 1)).all()
+    q = r.corner_uv
+    signed = (q[:, 1, 0] - q[:, 0, 0]) * (q[:, 2, 1] - q[:, 0, 1]) - (q[:, 1, 1] - q[:, 0, 1]) * (q[:, 2, 0] - q[:, 0, 0])
+    assert (signed > 0).all()
+    assert boundary_crossings(r.uv, r.triangles) == 0
+    m = uvflat.metrics(p[r.original_vertices], r.triangles, r.uv)
+    assert m.stretch_l2 <= 1.5 + 1e-9 and abs(m.stretch_l2 - r.report.stretch_l2) < 1e-9
+    assert abs(np.degrees(m.angle_mean) - r.report.angle_error_mean_deg) < 1e-9
+
+
+def test_unwrap_cuts_a_torus_and_keeps_it_whole_without_a_bound():
+    p, t = load_mesh("closed_g1_bob.obj")
+    r = uvflat.unwrap(p, t, max_stretch=math.inf)
+    assert r.report.islands == 1 and (r.islands == 0).all()
+    assert r.report.seam_edges == len(r.seams) > 0 and (r.seams[:, 0] < r.seams[:, 1]).all()
+    bounded = uvflat.unwrap(p, t)
+    assert bounded.report.max_island_stretch <= 1.5
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.unwrap(p, t, max_stretch=0.5)
+    with pytest.raises(uvflat.Cancelled):
+        uvflat.unwrap(p, t, progress=lambda fraction: False)
+
+
+def test_bijective_slim_keeps_the_boundary_apart():
+    p, t = load_mesh("disk_cow_cut.obj")
+    free, _ = uvflat.nonlinear_map(p, t, "slim")
+    bijective, report = uvflat.nonlinear_map(p, t, "slim", bijective=True)
+    assert boundary_crossings(free, t) > 0  # plain SLIM runs its boundary into itself here
+    assert boundary_crossings(bijective, t) == 0
+    assert uvflat.metrics(p, t, bijective).flipped == 0
+    assert report.final_energy <= report.initial_energy
+    with pytest.raises(uvflat.InvalidArgument):
+        uvflat.nonlinear_map(p, t, "arap", bijective=True)
 
 
 # --- issue 3: near-optimal λ, boundary optimization, spectral conformal -----------------------

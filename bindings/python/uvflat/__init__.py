@@ -8,7 +8,9 @@ in and out::
 
     positions = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0.3], [0, 1, 0]], dtype=float)
     triangles = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
-    uv = uvflat.natural_conformal_map(positions, triangles)     # (4, 2) float64
+    result = uvflat.unwrap(positions, triangles)   # verified: no flip, no overlap
+    corner_uv = result.corner_uv                     # (2, 3, 2) float64, in [0, 1]²
+    uv = uvflat.natural_conformal_map(positions, triangles)     # one method: (4, 2) float64
     print(uvflat.metrics(positions, triangles, uv).angle_mean)
 
 The library is found on first use (see :func:`load_library`): an explicit path, then
@@ -22,6 +24,9 @@ thread. Progress callbacks run with the GIL held, in the calling thread.
 """
 
 from ._api import (
+    Unwrapped,
+    UnwrapReport,
+    unwrap,
     BoundaryEditor,
     AbfReport,
     Curvatures,
@@ -181,6 +186,9 @@ __all__ = [
     "abf",
     "BoundaryEditor",
     "atlas",
+    "unwrap",
+    "Unwrapped",
+    "UnwrapReport",
     "cut_to_disk",
     "nonlinear_map",
     "pinned_natural_conformal_map",

@@ -631,12 +631,15 @@ def nonlinear_map(
     iterations: Optional[int] = None,
     tolerance: Optional[float] = None,
     theta: Optional[float] = None,
+    bijective: bool = False,
     progress: Optional[ProgressCallback] = None,
 ) -> Tuple[np.ndarray, NonlinearReport]:
     """Free-boundary distortion minimisation that never flips a triangle
     (``uvf_nonlinear_map``): ``slim`` (symmetric Dirichlet, Rabinovich et al. 2017), ``arap``
     (Liu et al. 2008), ``mips`` (Hormann & Greiner 2000), ``stretch`` (Sander et al. 2001),
     ``green_lagrange`` (Maillot et al. 1993), ``degener`` (Degener et al. 2003, ``theta``).
+    ``bijective`` (``slim`` only): a scaffold around the free boundary keeps it from running
+    into itself, so the whole map is one-to-one (Jiang et al. 2017).
 
     Returns:
         ``(uv, report)``: ``(n, 2)`` UVs and a :class:`NonlinearReport`.
@@ -651,6 +654,7 @@ def nonlinear_map(
         options.tolerance = float(tolerance)
     if theta is not None:
         options.theta = float(theta)
+    options.bijective = 1 if bijective else 0
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     uv = np.empty((len(p), 2), dtype=np.float64)
@@ -1819,6 +1823,112 @@ def atlas(
     return Atlas(
         uv, uv_triangles, original, charts, info.chart_count, info.utilization, info.stretch_l2, info.max_chart_stretch
     )
+
+
+@dataclasses.dataclass(frozen=True)
+class UnwrapReport:
+    """What :func:`unwrap` did, measured on its result (``UvfUnwrapReport``)."""
+
+    #: Islands of the layout.
+    islands: int
+    #: Islands the method could not lay out validly, laid out by bijective SLIM instead.
+    repaired_islands: int
+    #: Input edges cut.
+    seam_edges: int
+    #: UV vertices.
+    uv_vertex_count: int
+    #: Flipped or degenerate UV triangles, by the library's independent exact checker (0).
+    flipped: int
+    #: Touching boundary-edge pairs and nested islands, by the same checker (0).
+    overlaps: int
+    #: L2 stretch of the whole layout.
+    stretch_l2: float
+    #: Largest L2 stretch of one island.
+    max_island_stretch: float
+    #: Mean angle distortion over corners, in degrees.
+    angle_error_mean_deg: float
+    #: Fraction of the unit square covered by islands.
+    utilization: float
+
+
+@dataclasses.dataclass(frozen=True)
+class Unwrapped:
+    """The result of :func:`unwrap`: a packed, verified layout."""
+
+    uv: np.ndarray  #: ``(k, 2)`` UV of every UV vertex, in [0, 1]
+    triangles: np.ndarray  #: ``(m, 3)`` UV vertex of each corner of each input triangle
+    original_vertices: np.ndarray  #: ``(k,)`` input vertex of each UV vertex
+    islands: np.ndarray  #: ``(m,)`` island of each input triangle
+    seams: np.ndarray  #: ``(s, 2)`` cut input edges as vertex pairs ``a < b``
+    report: UnwrapReport
+
+    @property
+    def corner_uv(self) -> np.ndarray:
+        """``(m, 3, 2)`` UV of every corner."""
+        return self.uv[self.triangles]
+
+
+def unwrap(
+    positions: ArrayLike,
+    triangles: ArrayLike,
+    max_stretch: float = 1.5,
+    margin: float = 0.005,
+    method: str = "natural_conformal",
+    iterations: int = 100,
+    rotate: bool = True,
+    progress: Optional[ProgressCallback] = None,
+) -> Unwrapped:
+    """UVs for any manifold mesh in one call (``uvf_unwrap``): every component starts as one
+    island (cut into a disk when closed or with handles) flattened by ``method``
+    (``natural_conformal``, ``mean_value``, ``slim`` or ``stretch``); an island that flips or
+    overlaps is laid out again by bijective SLIM, one over ``max_stretch`` (L2, ≥ 1;
+    ``math.inf``: no bound) is split; the islands are packed into the unit square ``margin``
+    apart and the layout is verified: no flipped triangle, no overlap. ``progress`` may cancel
+    (raises :class:`Cancelled`).
+
+    Example::
+
+        result = uvflat.unwrap(positions, triangles)
+        assert result.report.flipped == 0 and result.report.overlaps == 0
+        corner_uv = result.corner_uv  # (m, 3, 2)
+    """
+    p, t = _mesh_arrays(positions, triangles)
+    lib = L.library()
+    options = L.UvfUnwrapOptions()
+    lib.uvf_unwrap_options_default(byref(options))
+    options.max_stretch = float(max_stretch)
+    options.margin = float(margin)
+    options.method = _code(method, _ATLAS_METHODS, "method")
+    if not (isinstance(iterations, int) and 0 <= iterations < 2**32):
+        raise InvalidArgument(f"iterations must be an integer in [0, 2^32), not {iterations!r}")
+    options.iterations = iterations
+    options.rotate = 1 if rotate else 0
+    bridge = _ProgressBridge(progress)
+    options.progress = bridge.c_function
+    handle = POINTER(L.UvfUnwrap)()
+    bridge.run(lambda: lib.uvf_unwrap(_f64p(p), len(p), _u32p(t), len(t), byref(options), byref(handle)))
+    try:
+        report = L.UvfUnwrapReport()
+        report.struct_size = ctypes.sizeof(L.UvfUnwrapReport)
+        _check(lib.uvf_unwrap_report(handle, byref(report)))
+        layout = POINTER(L.UvfAtlas)()
+        _check(lib.uvf_unwrap_atlas(handle, byref(layout)))
+        info = L.UvfAtlasInfo()
+        _check(lib.uvf_atlas_info(layout, byref(info)))
+        uv = np.empty((info.vertex_count, 2), dtype=np.float64)
+        uv_triangles = np.empty((info.triangle_count, 3), dtype=np.uint32)
+        original = np.empty(info.vertex_count, dtype=np.uint32)
+        islands = np.empty(info.triangle_count, dtype=np.uint32)
+        seams = np.empty((report.seam_edges, 2), dtype=np.uint32)
+        _check(lib.uvf_atlas_copy_uv(layout, _f64p(uv), uv.size))
+        _check(lib.uvf_atlas_copy_triangles(layout, _u32p(uv_triangles), uv_triangles.size))
+        _check(lib.uvf_atlas_copy_original_vertices(layout, _u32p(original), original.size))
+        _check(lib.uvf_atlas_copy_charts(layout, _u32p(islands), islands.size))
+        _check(lib.uvf_unwrap_copy_seams(handle, _u32p(seams), seams.size))
+    finally:
+        lib.uvf_unwrap_free(handle)
+    fields = {f.name: getattr(report, f.name) for f in dataclasses.fields(UnwrapReport)}
+    return Unwrapped(uv, uv_triangles, original, islands, seams, UnwrapReport(**fields))
 
 
 class BoundaryEditor:

@@ -416,6 +416,7 @@ class UvfNonlinearOptions(Structure):
         ("theta", c_double),
         ("progress", UvfProgressFn),
         ("progress_user", c_void_p),
+        ("bijective", c_uint32),
     ]
 
 
@@ -479,6 +480,39 @@ class UvfAtlasInfo(Structure):
         ("utilization", c_double),
         ("stretch_l2", c_double),
         ("max_chart_stretch", c_double),
+    ]
+
+
+class UvfUnwrapOptions(Structure):
+    """``struct UvfUnwrapOptions``; fill with ``uvf_unwrap_options_default``."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("max_stretch", c_double),
+        ("margin", c_double),
+        ("method", c_uint32),
+        ("iterations", c_uint32),
+        ("rotate", c_uint32),
+        ("progress", UvfProgressFn),
+        ("progress_user", c_void_p),
+    ]
+
+
+class UvfUnwrapReport(Structure):
+    """``struct UvfUnwrapReport``: what ``uvf_unwrap`` did; set ``struct_size`` before reading."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("islands", c_size_t),
+        ("repaired_islands", c_size_t),
+        ("seam_edges", c_size_t),
+        ("uv_vertex_count", c_size_t),
+        ("flipped", c_size_t),
+        ("overlaps", c_size_t),
+        ("stretch_l2", c_double),
+        ("max_island_stretch", c_double),
+        ("angle_error_mean_deg", c_double),
+        ("utilization", c_double),
     ]
 
 
@@ -610,6 +644,10 @@ class UvfCut(Structure):
 
 class UvfAtlas(Structure):
     """Opaque ``struct UvfAtlas`` (only used through pointers)."""
+
+
+class UvfUnwrap(Structure):
+    """Opaque ``struct UvfUnwrap`` (only used through pointers)."""
 
 
 _f64p = POINTER(c_double)
@@ -826,6 +864,15 @@ PROTOTYPES = {
     "uvf_atlas_copy_charts": (UvfStatus, [POINTER(UvfAtlas), _u32p, c_size_t]),
     "uvf_atlas_copy_original_vertices": (UvfStatus, [POINTER(UvfAtlas), _u32p, c_size_t]),
     "uvf_atlas_free": (None, [POINTER(UvfAtlas)]),
+    "uvf_unwrap_options_default": (None, [POINTER(UvfUnwrapOptions)]),
+    "uvf_unwrap": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfUnwrapOptions), POINTER(POINTER(UvfUnwrap))],
+    ),
+    "uvf_unwrap_report": (UvfStatus, [POINTER(UvfUnwrap), POINTER(UvfUnwrapReport)]),
+    "uvf_unwrap_atlas": (UvfStatus, [POINTER(UvfUnwrap), POINTER(POINTER(UvfAtlas))]),
+    "uvf_unwrap_copy_seams": (UvfStatus, [POINTER(UvfUnwrap), _u32p, c_size_t]),
+    "uvf_unwrap_free": (None, [POINTER(UvfUnwrap)]),
     "uvf_sphere_options_default": (None, [POINTER(UvfSphereOptions)]),
     "uvf_spherical_map": (
         UvfStatus,
