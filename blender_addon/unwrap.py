@@ -25,8 +25,12 @@ Steps (all objects of a multi-object Edit Mode together):
    as in 3D), corrected for the image aspect ratio if asked, placed side by side without
    overlapping and fitted into the unit square; optionally Blender's ``uv.pack_islands`` then
    packs them (pinned islands stay locked);
-6. back to Edit Mode; the operator reports islands, faces, seconds and the mean angle
-   distortion in the status bar.
+   Every solved island is checked by the library's exact layout checker
+   (``uvflat.check_layout``: flipped triangles, boundary edges that cross or touch); an island
+   the chosen method folded is solved again by bijective SLIM (a scaffold around its free
+   boundary keeps it one-to-one), and the island is reported as repaired;
+6. back to Edit Mode; the operator reports islands, repairs, the verified flip and overlap
+   counts, seconds and the mean angle error (degrees) in the status bar.
 
 Run from the menu (``invoke``), step 3 runs on a worker thread while the operator stays modal:
 the progress counter follows it and Esc cancels it (every library call gets a progress
@@ -36,6 +40,7 @@ Redo (F9), scripts and background mode run the same steps synchronously (``execu
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 from typing import Any, Callable, Dict, List, Optional, Tuple
@@ -51,7 +56,12 @@ from ._binding import binding
 LAST_RUN: Dict[str, Any] = {}
 
 METHODS = [
-    ("NATURAL_CONFORMAL", "Natural Conformal", "Free-boundary natural conformal map (= LSCM, Desbrun et al. 2002); honours every pin"),
+    (
+        "NATURAL_CONFORMAL",
+        "Natural Conformal",
+        "Free-boundary natural conformal map (= LSCM, Desbrun et al. 2002); honours every pin; "
+        "islands it folds are solved again by bijective SLIM",
+    ),
     ("ABF_PLUS_PLUS", "ABF++", "Angle Based Flattening (Sheffer et al. 2005), then least-squares reconstruction; free boundary"),
     (
         "CIRCLE_PATTERNS",
@@ -62,7 +72,12 @@ METHODS = [
     ("MEAN_VALUE", "Mean Value", "Floater's mean value coordinates, boundary fixed on a circle or square; never flips"),
     ("SLIM", "SLIM (symmetric Dirichlet)", "Isometric free-boundary map minimised by SLIM (Rabinovich et al. 2017); never flips (unless pins beyond two pull their neighbours)"),
     ("STRETCH", "Minimum Stretch", "Sander et al. 2001 L2 stretch, free boundary; never flips (unless pins beyond two pull their neighbours)"),
-    ("ARAP", "As Rigid As Possible", "Liu et al. 2008 local/global ARAP, free boundary; never flips (unless pins beyond two pull their neighbours)"),
+    (
+        "ARAP",
+        "As Rigid As Possible",
+        "Liu et al. 2008 local/global ARAP, free boundary; no triangle flips, but none is kept from shrinking towards zero area "
+        "(islands that fold are solved again by bijective SLIM)",
+    ),
     ("TUTTE", "Tutte", "Uniform weights, fixed convex boundary; never flips"),
     ("FLOATER", "Floater", "Floater's shape-preserving weights, fixed convex boundary; never flips"),
     ("AUTHALIC", "Authalic", "Discrete authalic (Wachspress) weights, fixed boundary"),
@@ -159,6 +174,8 @@ class UnwrapRun:
         self.messages: List[str] = []
         self.unenforced_pins = 0
         self.cut_islands = 0
+        self.repaired_islands = 0
+        self.folded_islands = 0
         self.solve_seconds = 0.0
 
     def _read(self, k: int, obj: bpy.types.Object, correct_aspect: bool) -> None:
@@ -284,6 +301,7 @@ class UnwrapRun:
             return
         try:
             job.uv, extra = self._solve(job, progress)
+            job.uv = self._repaired(job, progress)
         except uvflat.Cancelled:
             raise
         except uvflat.Error as e:
@@ -291,6 +309,26 @@ class UnwrapRun:
             return
         self.unenforced_pins += extra
         self.solved.append(job)
+
+    def _repaired(self, job: _Job, progress: Callable[[float], bool]) -> np.ndarray:
+        """The island's UVs, solved again by bijective SLIM when the method folded them (pins
+        then place the island by a similarity, as for the other free-boundary methods)."""
+        if not np.isfinite(job.uv).all() or is_folded(self.uvflat, job.uv, job.island.triangles):
+            p, t = job.island.positions, job.island.triangles
+            try:
+                uv, _ = self.uvflat.nonlinear_map(p, t, "slim", bijective=True, progress=progress)
+            except self.uvflat.Cancelled:
+                raise
+            except self.uvflat.Error:
+                self.folded_islands += 1
+                return job.uv
+            if len(job.pin_vertices):
+                uv = _fit_to_pins(uv, job)
+            self.repaired_islands += 1
+            if is_folded(self.uvflat, uv, t):
+                self.folded_islands += 1
+            return uv
+        return job.uv
 
     def _skip(self, kind: str, message: str) -> None:
         self.skipped[kind] += 1
@@ -467,6 +505,8 @@ class UnwrapRun:
 
     def _warnings(self) -> List[str]:
         warnings = []
+        if self.folded_islands:
+            warnings.append(f"{self.folded_islands} island(s) still fold after the bijective repair (degenerate faces?)")
         if self.cut_islands:
             warnings.append(f"{self.cut_islands} closed or higher-genus island(s) cut open along new seams (not marked)")
         if self.skipped["closed"]:
@@ -493,6 +533,8 @@ class UnwrapRun:
             "selected_faces": int(sum(len(j.island.polys) for j in jobs)),
             "skipped": dict(self.skipped),
             "cut_islands": self.cut_islands,
+            "repaired_islands": self.repaired_islands,
+            "folded_islands": self.folded_islands,
             "unenforced_pins": self.unenforced_pins,
             "angle_mean": self._mean_angle_distortion(),
             "solve_seconds": self.solve_seconds,
@@ -504,6 +546,16 @@ class UnwrapRun:
             ],
             "island_faces": [(j.obj_index, j.island.polys.copy()) for j in solved],
         }
+
+
+def is_folded(uvflat: Any, uv: np.ndarray, triangles: np.ndarray) -> bool:
+    """Whether the library's exact checker finds a flipped triangle or an overlap in an
+    island's layout (a layout mirrored as a whole is not folded)."""
+    q = uv[triangles]
+    signed = (q[:, 1, 0] - q[:, 0, 0]) * (q[:, 2, 1] - q[:, 0, 1]) - (q[:, 1, 1] - q[:, 0, 1]) * (q[:, 2, 0] - q[:, 0, 0])
+    oriented = uv if signed.sum() >= 0 else uv * np.array([-1.0, 1.0])
+    check = uvflat.check_layout(oriented, triangles)
+    return check.flipped > 0 or check.overlaps > 0
 
 
 def to_square(uv: np.ndarray, aspect: float) -> np.ndarray:
@@ -715,9 +767,13 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
         summary["seconds"] = seconds
         LAST_RUN.update(summary)
 
+        if summary["selected_faces"] == 0:
+            self.report({"WARNING"}, "uvflat: no faces selected; nothing unwrapped")
+            return {"FINISHED"}
         message = (
-            f"uvflat: {summary['islands']} islands, {summary['faces']} faces, {seconds:.3f} s, "
-            f"mean angle distortion {summary['angle_mean']:.4f} rad"
+            f"uvflat: {summary['islands']} islands ({summary['repaired_islands']} repaired by bijective SLIM), "
+            f"{summary['faces']} faces, folded islands {summary['folded_islands']}, {seconds:.3f} s, "
+            f"mean angle error {math.degrees(summary['angle_mean']):.2f}°"
         )
         warnings = summary["warnings"]
         if warnings:

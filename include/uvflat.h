@@ -1324,6 +1324,26 @@ typedef struct UvfMetrics {
 } UvfMetrics;
 
 /**
+ * What `uvf_check_layout` found (see there).
+ */
+typedef struct UvfLayoutCheck {
+  /**
+   * UV triangles not strictly counter-clockwise (zero area included) or with a non-finite
+   * corner.
+   */
+  size_t flipped;
+  /**
+   * Pairs of UV boundary edges that cross, touch or overlap, plus islands lying inside a
+   * triangle of another island.
+   */
+  size_t overlaps;
+  /**
+   * Islands: triangles connected through shared UV vertices.
+   */
+  size_t islands;
+} UvfLayoutCheck;
+
+/**
  * Options of `uvf_nonlinear_map`. Initialise with `uvf_nonlinear_options_default`.
  */
 typedef struct UvfNonlinearOptions {
@@ -2649,6 +2669,25 @@ enum UvfStatus uvf_metrics(const double *positions,
                            size_t uv_count,
                            const uint32_t *uv_triangles,
                            struct UvfMetrics *out);
+
+/**
+ * An independent, exact check of any UV layout (exact orientation predicates, nothing of the
+ * method that made it): counts flipped triangles (every triangle must be counter-clockwise)
+ * and overlaps within and between islands. A layout with neither is one-to-one: no two
+ * triangles cover the same point. `uv`: 2 doubles per UV vertex (`uv_count`),
+ * `uv_triangles`: 3 indices into `uv` per triangle. Indices out of range count as flipped.
+ *
+ * Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL or mis-sized array); `out` is untouched on
+ * failure.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `out` must point to a `UvfLayoutCheck`.
+ */
+enum UvfStatus uvf_check_layout(const double *uv,
+                                size_t uv_count,
+                                const uint32_t *uv_triangles,
+                                size_t triangle_count,
+                                struct UvfLayoutCheck *out);
 
 /**
  * Fills `options` with defaults (SLIM, 100 iterations, tolerance 1e-7, θ = 3).

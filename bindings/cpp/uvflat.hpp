@@ -562,6 +562,8 @@ enum class Nonlinear : std::uint32_t {
 struct NonlinearOptions {
     Nonlinear method = Nonlinear::slim;
     std::uint32_t iterations = 0;
+    /// SLIM only: keep the whole map bijective (a scaffold keeps the free boundary apart).
+    bool bijective = false;
     std::function<bool(double)> progress;
 };
 
@@ -574,6 +576,7 @@ inline std::vector<double> nonlinear_map(const std::vector<double> &positions,
     uvf_nonlinear_options_default(&o);
     o.method = static_cast<std::uint32_t>(options.method);
     if (options.iterations != 0) o.iterations = options.iterations;
+    o.bijective = options.bijective ? 1 : 0;
     return detail::run_reported(uvf_nonlinear_map, o, options.progress, positions, triangles, report);
 }
 
@@ -1273,6 +1276,91 @@ class Atlas {
 
   private:
     detail::Handle<UvfAtlas, uvf_atlas_free> handle_;
+};
+
+/// Options of `Unwrap`; defaults as `uvf_unwrap_options_default`.
+struct UnwrapOptions {
+    /// Largest L2 stretch of an island (≥ 1); infinity keeps every component one island.
+    double max_stretch = 1.5;
+    /// Gap between islands in the unit square, in [0, 0.5).
+    double margin = 0.005;
+    AtlasChartMethod method = AtlasChartMethod::natural_conformal;
+    /// Iteration limit of the non-linear solves (the bijective repair included).
+    std::uint32_t iterations = 100;
+    bool rotate = true;
+    std::function<bool(double)> progress;
+};
+
+/// The default unwrap of any manifold mesh (`uvf_unwrap`): islands without flips, overlaps or
+/// stretch above the bound, packed into [0, 1]² and verified by the library's exact checker.
+/// Move-only owner of the `UvfUnwrap` handle, freed by the destructor.
+class Unwrap {
+  public:
+    Unwrap(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+           const UnwrapOptions &options = {}) {
+        UvfUnwrapOptions o;
+        uvf_unwrap_options_default(&o);
+        o.max_stretch = options.max_stretch;
+        o.margin = options.margin;
+        o.method = static_cast<std::uint32_t>(options.method);
+        o.iterations = options.iterations;
+        o.rotate = options.rotate ? 1 : 0;
+        detail::Progress progress;
+        progress.callback = &options.progress;
+        progress.install(o);
+        progress.finish(uvf_unwrap(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
+                                   detail::count_of(triangles, "triangles"), &o, handle_.out()));
+    }
+
+    /// What the unwrap did: islands, repairs, seams, verified flips and overlaps (0), stretch.
+    UvfUnwrapReport report() const {
+        UvfUnwrapReport r{};
+        r.struct_size = sizeof r;
+        detail::check(uvf_unwrap_report(handle_.get(), &r));
+        return r;
+    }
+    /// UV of every UV vertex (2 doubles each, in [0, 1]).
+    std::vector<double> uv() const {
+        std::vector<double> out(2 * report().uv_vertex_count);
+        detail::check(uvf_atlas_copy_uv(layout(), out.data(), out.size()));
+        return out;
+    }
+    /// The UV vertex of every corner: 3 indices into `uv()` per input triangle.
+    std::vector<std::uint32_t> uv_triangles() const {
+        UvfAtlasInfo i{};
+        detail::check(uvf_atlas_info(layout(), &i));
+        std::vector<std::uint32_t> out(3 * i.triangle_count);
+        detail::check(uvf_atlas_copy_triangles(layout(), out.data(), out.size()));
+        return out;
+    }
+    /// The island of every input triangle, in [0, islands).
+    std::vector<std::uint32_t> island_of_triangle() const {
+        UvfAtlasInfo i{};
+        detail::check(uvf_atlas_info(layout(), &i));
+        std::vector<std::uint32_t> out(i.triangle_count);
+        detail::check(uvf_atlas_copy_charts(layout(), out.data(), out.size()));
+        return out;
+    }
+    /// The input vertex of every UV vertex.
+    std::vector<std::uint32_t> original_vertices() const {
+        std::vector<std::uint32_t> out(report().uv_vertex_count);
+        detail::check(uvf_atlas_copy_original_vertices(layout(), out.data(), out.size()));
+        return out;
+    }
+    /// The cut input edges: pairs of vertex indices a < b, sorted.
+    std::vector<std::uint32_t> seams() const {
+        std::vector<std::uint32_t> out(2 * report().seam_edges);
+        detail::check(uvf_unwrap_copy_seams(handle_.get(), out.data(), out.size()));
+        return out;
+    }
+
+  private:
+    const UvfAtlas *layout() const {
+        const UvfAtlas *a = nullptr;
+        detail::check(uvf_unwrap_atlas(handle_.get(), &a));
+        return a;
+    }
+    detail::Handle<UvfUnwrap, uvf_unwrap_free> handle_;
 };
 
 /// Distortion of per-vertex UVs (2 doubles per vertex).

@@ -112,3 +112,46 @@ pub unsafe extern "C" fn uvf_metrics(
         Ok(())
     })
 }
+
+/// What `uvf_check_layout` found (see there).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UvfLayoutCheck {
+    /// UV triangles not strictly counter-clockwise (zero area included) or with a non-finite
+    /// corner.
+    pub flipped: usize,
+    /// Pairs of UV boundary edges that cross, touch or overlap, plus islands lying inside a
+    /// triangle of another island.
+    pub overlaps: usize,
+    /// Islands: triangles connected through shared UV vertices.
+    pub islands: usize,
+}
+
+/// An independent, exact check of any UV layout (exact orientation predicates, nothing of the
+/// method that made it): counts flipped triangles (every triangle must be counter-clockwise)
+/// and overlaps within and between islands. A layout with neither is one-to-one: no two
+/// triangles cover the same point. `uv`: 2 doubles per UV vertex (`uv_count`),
+/// `uv_triangles`: 3 indices into `uv` per triangle. Indices out of range count as flipped.
+///
+/// Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL or mis-sized array); `out` is untouched on
+/// failure.
+///
+/// # Safety
+/// The arrays must hold the stated number of elements; `out` must point to a `UvfLayoutCheck`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_check_layout(
+    uv: *const f64,
+    uv_count: usize,
+    uv_triangles: *const u32,
+    triangle_count: usize,
+    out: *mut UvfLayoutCheck,
+) -> UvfStatus {
+    guard(|| {
+        let uv = borrow_slice(uv, checked_count(uv_count, 2, "uv")?, "uv")?;
+        let tris = borrow_slice(uv_triangles, checked_count(triangle_count, 3, "triangle")?, "uv_triangles")?;
+        let out = super::borrow_slice_mut(out, 1, "out")?;
+        let v = crate::verify::check_layout(&as_points::<2>(uv), &as_triangles(tris));
+        out[0] = UvfLayoutCheck { flipped: v.flipped, overlaps: v.overlaps, islands: v.islands };
+        Ok(())
+    })
+}

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <numeric>
 #include <set>
@@ -413,6 +414,34 @@ void check_atlas(const std::string &name, const Arrays &a) {
     expect_error(UVF_INVALID_ARGUMENT, "a moved-from atlas", [&] { atlas.uv(); });
 }
 
+/// The default unwrap through the C++ owner: the report's verified counts, corners mapping back,
+/// flips measured again by metrics, seams as sorted vertex pairs; one island without a bound.
+void check_unwrap(const std::string &name, const Arrays &a) {
+    context = name + " unwrap";
+    uvflat::Unwrap result(a.positions, a.triangles);
+    const UvfUnwrapReport r = result.report();
+    std::printf("%s: %zu islands (%zu repaired), %zu seam edges, max island L2 %.4f\n", context.c_str(), r.islands,
+                r.repaired_islands, r.seam_edges, r.max_island_stretch);
+    expect(r.flipped == 0 && r.overlaps == 0 && r.max_island_stretch <= 1.5, "verified counts");
+    const std::vector<double> uv = result.uv();
+    const std::vector<std::uint32_t> uv_triangles = result.uv_triangles(), original = result.original_vertices(),
+                                     seams = result.seams(), islands = result.island_of_triangle();
+    bool corners_ok = uv_triangles.size() == a.triangles.size();
+    for (std::size_t k = 0; corners_ok && k < uv_triangles.size(); ++k) corners_ok = original[uv_triangles[k]] == a.triangles[k];
+    expect(corners_ok, "corners do not map back to the input's vertices");
+    expect(std::all_of(islands.begin(), islands.end(), [&](std::uint32_t i) { return i < r.islands; }), "island ids");
+    expect(uvflat::metrics(a.positions, a.triangles, uv, uv_triangles).flipped == 0, "metrics finds flips");
+    bool seams_ok = seams.size() == 2 * r.seam_edges;
+    for (std::size_t k = 0; seams_ok && k < r.seam_edges; ++k) seams_ok = seams[2 * k] < seams[2 * k + 1];
+    expect(seams_ok, "seams are not sorted vertex pairs");
+    uvflat::UnwrapOptions whole;
+    whole.max_stretch = std::numeric_limits<double>::infinity();
+    expect(uvflat::Unwrap(a.positions, a.triangles, whole).report().islands == 1, "one island without a bound");
+    uvflat::UnwrapOptions bad;
+    bad.max_stretch = 0.5;
+    expect_error(UVF_INVALID_ARGUMENT, "max_stretch 0.5", [&] { uvflat::Unwrap(a.positions, a.triangles, bad); });
+}
+
 /// Triangle components of two disjoint copies of a mesh, the ABI version, bad input.
 void check_components(const Arrays &a) {
     context = "triangle components";
@@ -601,6 +630,8 @@ int main(int argc, char **argv) {
     run("atlas of eight", [&] { check_atlas("closed_g2_eight.obj", eight); });
     run("atlas of the disk", [&] { check_atlas("disk_nefertiti_small.obj", disk); });
     run("intrinsic tools", [&] { check_intrinsic_tools(disk); });
+    run("unwrap of the torus", [&] { check_unwrap("closed_g1_torus.obj", torus); });
+    run("unwrap of the disk", [&] { check_unwrap("disk_nefertiti_small.obj", disk); });
     std::printf("%d failure(s)\n", failures);
     return failures == 0 ? 0 : 1;
 }

@@ -119,7 +119,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 82, sorted(functions)
+    assert len(functions) == 89, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -162,6 +162,9 @@ STRUCTS = {
     "UvfSphereOptions": _library.UvfSphereOptions,
     "UvfAtlasOptions": _library.UvfAtlasOptions,
     "UvfAtlasInfo": _library.UvfAtlasInfo,
+    "UvfUnwrapOptions": _library.UvfUnwrapOptions,
+    "UvfUnwrapReport": _library.UvfUnwrapReport,
+    "UvfLayoutCheck": _library.UvfLayoutCheck,
     "UvfSpectralOptions": _library.UvfSpectralOptions,
     "UvfSpectralReport": _library.UvfSpectralReport,
     "UvfIntrinsicOptimalOptions": _library.UvfIntrinsicOptimalOptions,
@@ -457,7 +460,7 @@ def test_pins_equal_the_cli_pins(tmp_path):
     name = "disk_nefertiti_small.obj"
     p, t = load_mesh(name)
     a, b = 3, 200
-    expected, _ = cli_unwrap(mesh_path(name), tmp_path, "--pin", str(a), "--pin", str(b))
+    expected, _ = cli_unwrap(mesh_path(name), tmp_path, "--method", "natural-conformal", "--pin", str(a), "--pin", str(b))
     d = float(np.linalg.norm(p[a] - p[b]))
     uv = uvflat.natural_conformal_map(p, t, pins=((a, (0.0, 0.0)), (b, (d, 0.0))))
     assert_uv_equal(uv, expected, referenced_mask(len(p), t))
@@ -1249,6 +1252,11 @@ def test_unwrap_is_flip_and_overlap_free_where_the_conformal_map_folds():
     assert boundary_crossings(r.uv, r.triangles) == 0
     m = uvflat.metrics(p[r.original_vertices], r.triangles, r.uv)
     assert m.stretch_l2 <= 1.5 + 1e-9 and abs(m.stretch_l2 - r.report.stretch_l2) < 1e-9
+    check = uvflat.check_layout(r.uv, r.triangles)
+    assert (check.flipped, check.overlaps, check.islands) == (0, 0, r.report.islands)
+    # The checker is not the method's bookkeeping: it finds the conformal map's folds.
+    conformal = uvflat.natural_conformal_map(p, t)
+    assert uvflat.check_layout(conformal, t).flipped > 0
     assert abs(np.degrees(m.angle_mean) - r.report.angle_error_mean_deg) < 1e-9
 
 

@@ -784,12 +784,46 @@ def test_a_tube_is_unwrapped_with_its_second_hole_filled_and_does_not_fold(metho
     assert covered_more_than_once(data, polys) == 0.0
 
 
-def test_without_fill_holes_the_free_boundary_map_of_a_tube_folds():
-    # What Fill Holes is for: the conformal map of the tube itself is pressed flat.
+def test_without_fill_holes_the_folded_map_of_a_tube_is_repaired():
+    # The conformal map of the tube itself is pressed flat, its two layers folded at the sides
+    # (what Fill Holes avoids); the exact checker finds the fold and the island is solved
+    # again by bijective SLIM, which leaves no point of it covered twice.
     obj = tube()
-    run(method="NATURAL_CONFORMAL", fill_holes=False)
+    import blender_addon.unwrap as unwrap
+    import uvflat
+
+    p = np.array([v.co[:] for v in obj.data.vertices])
+    t = np.array([[f.vertices[0], f.vertices[k], f.vertices[k + 1]] for f in obj.data.polygons for k in (1, 2)])
+    folded = uvflat.natural_conformal_map(p, t)
+    assert unwrap.is_folded(uvflat, folded, t.astype(np.uint32))
+    summary = run(method="NATURAL_CONFORMAL", fill_holes=False)
     data = read(obj)
-    assert covered_more_than_once(data, np.arange(len(obj.data.polygons))) > 0.2
+    polys = np.arange(len(obj.data.polygons))
+    assert summary["repaired_islands"] == 1 and summary["folded_islands"] == 0, summary
+    assert_no_flips(data, [polys])
+    assert covered_more_than_once(data, polys) == 0.0
+
+
+def test_a_folding_method_is_repaired_and_the_status_says_so():
+    # Blender's own conformal unwrap and uvflat's natural conformal map both fold the
+    # mannequin-like three peaks disk; the operator repairs it (the test checks UVs itself).
+    path = mesh_path("disk_three_peaks.obj")
+    bpy.ops.wm.obj_import(filepath=str(path))
+    obj = bpy.context.selected_objects[0]
+    edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
+    summary = run(method="NATURAL_CONFORMAL")
+    data = read(obj)
+    polys = np.arange(len(obj.data.polygons))
+    assert summary["repaired_islands"] == 1 and summary["folded_islands"] == 0, summary
+    assert_no_flips(data, [polys])
+    assert covered_more_than_once(data, polys, samples=60) == 0.0
+
+
+def test_nothing_selected_says_so():
+    obj = grid()
+    edit([obj], lambda o: np.zeros(len(o.data.polygons), bool))
+    summary = run()
+    assert summary["selected_faces"] == 0 and summary["islands"] == 0
 
 
 def test_every_face_an_island_next_to_a_tube_in_one_run():
@@ -797,7 +831,7 @@ def test_every_face_an_island_next_to_a_tube_in_one_run():
     # call for all instead of one per island): each face of the seamed grid must still come out
     # as its own unfolded island at the common scale, and the tube in the same run, which the
     # stacked check cannot call a disk (Euler characteristic 0), must still get its second hole
-    # filled (without, it folds: test_without_fill_holes_the_free_boundary_map_of_a_tube_folds).
+    # filled (without, it folds and is repaired: test_without_fill_holes_the_folded_map_of_a_tube_is_repaired).
     n = 8
     obj = grid(n)
     obj.data.edges.foreach_set("use_seam", np.ones(len(obj.data.edges), dtype=bool))

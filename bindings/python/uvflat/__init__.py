@@ -24,6 +24,8 @@ thread. Progress callbacks run with the GIL held, in the calling thread.
 """
 
 from ._api import (
+    LayoutCheck,
+    check_layout,
     Unwrapped,
     UnwrapReport,
     unwrap,
@@ -187,6 +189,8 @@ __all__ = [
     "BoundaryEditor",
     "atlas",
     "unwrap",
+    "check_layout",
+    "LayoutCheck",
     "Unwrapped",
     "UnwrapReport",
     "cut_to_disk",

@@ -1826,6 +1826,29 @@ def atlas(
 
 
 @dataclasses.dataclass(frozen=True)
+class LayoutCheck:
+    """What :func:`check_layout` found (``UvfLayoutCheck``)."""
+
+    #: Triangles not strictly counter-clockwise, or with a non-finite corner.
+    flipped: int
+    #: Crossing, touching or overlapping boundary-edge pairs, plus islands inside another.
+    overlaps: int
+    #: Islands (triangles connected through shared UV vertices).
+    islands: int
+
+
+def check_layout(uv: ArrayLike, uv_triangles: ArrayLike) -> LayoutCheck:
+    """Exact, method-independent check of any UV layout (``uvf_check_layout``): ``uv`` is
+    ``(k, 2)``, ``uv_triangles`` ``(m, 3)`` indices into it. A layout with no flipped triangle
+    and no overlap covers no point twice."""
+    q = np.ascontiguousarray(uv, dtype=np.float64).reshape(-1, 2)
+    t = np.ascontiguousarray(uv_triangles, dtype=np.uint32).reshape(-1, 3)
+    out = L.UvfLayoutCheck()
+    _check(L.library().uvf_check_layout(_f64p(q), len(q), _u32p(t), len(t), byref(out)))
+    return LayoutCheck(out.flipped, out.overlaps, out.islands)
+
+
+@dataclasses.dataclass(frozen=True)
 class UnwrapReport:
     """What :func:`unwrap` did, measured on its result (``UvfUnwrapReport``)."""
 

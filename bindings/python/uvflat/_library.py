@@ -516,6 +516,12 @@ class UvfUnwrapReport(Structure):
     ]
 
 
+class UvfLayoutCheck(Structure):
+    """``struct UvfLayoutCheck``: what ``uvf_check_layout`` found."""
+
+    _fields_ = [("flipped", c_size_t), ("overlaps", c_size_t), ("islands", c_size_t)]
+
+
 class UvfSphereOptions(Structure):
     """``struct UvfSphereOptions``; fill with ``uvf_sphere_options_default``."""
 
@@ -864,6 +870,7 @@ PROTOTYPES = {
     "uvf_atlas_copy_charts": (UvfStatus, [POINTER(UvfAtlas), _u32p, c_size_t]),
     "uvf_atlas_copy_original_vertices": (UvfStatus, [POINTER(UvfAtlas), _u32p, c_size_t]),
     "uvf_atlas_free": (None, [POINTER(UvfAtlas)]),
+    "uvf_check_layout": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfLayoutCheck)]),
     "uvf_unwrap_options_default": (None, [POINTER(UvfUnwrapOptions)]),
     "uvf_unwrap": (
         UvfStatus,
