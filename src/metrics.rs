@@ -138,7 +138,6 @@ pub fn distortion(
     let flipped = count_orientation(&orientations, UvOrientation::Flipped);
     let degenerate_uv = count_orientation(&orientations, UvOrientation::Degenerate);
     let summary = distortion_sums(positions, triangles, uv, uv_triangles, &orientations).summarize();
-    let edges = uv_edges(uv_triangles);
     Ok(Metrics {
         triangles: triangles.len(),
         flipped,
@@ -151,7 +150,7 @@ pub fn distortion(
         angle_max: summary.angle_max,
         area_mean: summary.area_mean,
         area_max: summary.area_max,
-        boundary_intersections: count_boundary_crossings(uv, &edges.boundary),
+        boundary_intersections: count_boundary_crossings(uv, &uv_edges(uv_triangles).boundary),
     })
 }
 
@@ -227,7 +226,11 @@ pub fn uv_edges(uv_triangles: &[[u32; 3]]) -> UvEdges {
         .filter(|[a, b]| a != b)
         .map(|[a, b]| (u64::from(a.min(b)) << 32) | u64::from(a.max(b)))
         .collect();
-    keys.sort_unstable();
+    if keys.len() < crate::parallel::SEQUENTIAL_BELOW {
+        keys.sort_unstable();
+    } else {
+        rayon::slice::ParallelSliceMut::par_sort_unstable(keys.as_mut_slice());
+    }
     let mut edges = UvEdges::default();
     let mut i = 0;
     while i < keys.len() {
@@ -377,6 +380,20 @@ impl DistortionSums {
         self.log_area_ratios.push((area_3d, (area_uv / area_3d).ln()));
     }
 
+    /// Adds the sums of the triangles after this one's.
+    fn merge(&mut self, o: DistortionSums) {
+        self.triangles += o.triangles;
+        self.area_3d += o.area_3d;
+        self.area_uv += o.area_uv;
+        self.dirichlet += o.dirichlet;
+        self.sigma1_max = self.sigma1_max.max(o.sigma1_max);
+        self.conformal += o.conformal;
+        self.conformal_max = self.conformal_max.max(o.conformal_max);
+        self.angle += o.angle;
+        self.angle_max = self.angle_max.max(o.angle_max);
+        self.log_area_ratios.extend(o.log_area_ratios);
+    }
+
     /// Final measures, after scaling uv by k = sqrt(Σ A_3d / Σ A_uv): every σ is divided by k
     /// and every uv area multiplied by s = k².
     fn summarize(&self) -> DistortionSummary {
@@ -411,14 +428,33 @@ fn distortion_sums(
     uv_triangles: &[[u32; 3]],
     orientations: &[UvOrientation],
 ) -> DistortionSums {
-    let mut sums = DistortionSums::default();
-    for ((tri, uv_tri), o) in triangles.iter().zip(uv_triangles).zip(orientations) {
-        if matches!(o, UvOrientation::Agrees | UvOrientation::Flipped) {
-            sums.add(tri.map(|v| positions[v as usize]), uv_tri.map(|i| uv[i as usize]));
+    // Fixed chunks summed in order: the same sums whatever the thread count.
+    let chunk = |range: std::ops::Range<usize>| {
+        let mut sums = DistortionSums::default();
+        for t in range {
+            if matches!(orientations[t], UvOrientation::Agrees | UvOrientation::Flipped) {
+                sums.add(triangles[t].map(|v| positions[v as usize]), uv_triangles[t].map(|i| uv[i as usize]));
+            }
         }
+        sums
+    };
+    let n = triangles.len();
+    let range = |c: usize| c * SUM_CHUNK..((c + 1) * SUM_CHUNK).min(n);
+    let parts: Vec<DistortionSums> = if n < crate::parallel::SEQUENTIAL_BELOW {
+        vec![chunk(0..n)]
+    } else {
+        use rayon::prelude::*;
+        (0..n.div_ceil(SUM_CHUNK)).into_par_iter().map(|c| chunk(range(c))).collect()
+    };
+    let mut sums = DistortionSums::default();
+    for part in parts {
+        sums.merge(part);
     }
     sums
 }
+
+/// Triangles per partial sum of [`distortion_sums`].
+const SUM_CHUNK: usize = 4096;
 
 struct DistortionSummary {
     stretch_l2: f64,

@@ -35,8 +35,7 @@ use crate::methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions};
 use crate::methods::conformal::natural_conformal_map;
 use crate::methods::nonlinear::{nonlinear_map_from, NonlinearMethod, NonlinearOptions};
 use crate::metrics::{
-    count_boundary_crossings, per_triangle_singular_values, signed_uv_area, triangle_area_3d,
-    triangle_is_degenerate_2d, uv_edges,
+    count_boundary_crossings, per_triangle_singular_values, signed_uv_area, triangle_area_3d, triangle_is_degenerate_2d,
 };
 use crate::progress::Progress;
 
@@ -177,6 +176,8 @@ pub fn flatten_chart(
             }
         },
     };
+    // The bound is met up to round-off: one triangle laid out exactly has a stretch of 1 ± a
+    // few ulps, and `max_stretch = 1` (isometric) must accept it.
     let over = |s: f64| !(s <= settings.max_stretch * (1.0 + STRETCH_ROUND_OFF));
     // Only an invalid flattening is repaired: one that is merely over the bound is split, so
     // that its pieces keep the method's distortion (a conformal map stays conformal).
@@ -209,9 +210,7 @@ pub fn flatten_chart(
             (uv, stretch, polished) = (better, s, true);
         }
     }
-    // The bound is met up to round-off: one triangle laid out exactly has a stretch of 1 ± a
-    // few ulps, and `max_stretch = 1` (isometric) must accept it.
-    if !(stretch <= settings.max_stretch * (1.0 + STRETCH_ROUND_OFF)) {
+    if over(stretch) {
         return Ok(Err(Refusal::Stretch(stretch)));
     }
     let corners = disk.triangles().to_vec();
@@ -347,14 +346,19 @@ fn orient_and_check(disk: &TriMesh, uv: &mut [[f64; 2]]) -> std::result::Result<
             p[0] = -p[0];
         }
     }
-    let bad = disk.triangles().iter().any(|t| {
-        let q = uv_triangle(uv, *t);
+    let uv_ref: &[[f64; 2]] = uv;
+    let bad = crate::parallel::position_first(disk.triangles(), |t| {
+        let q = uv_triangle(uv_ref, *t);
         triangle_is_degenerate_2d(q) || !(signed_uv_area(q) > 0.0)
-    });
+    })
+    .is_some();
     if bad {
         return Err(Refusal::Flipped);
     }
-    let boundary = uv_edges(disk.triangles()).boundary;
+    // The disk's UV boundary is its mesh boundary: the loops the mesh already holds (sorting
+    // every edge to find them took most of this check on large charts).
+    let boundary: Vec<[u32; 2]> =
+        disk.boundary_loops().iter().flat_map(|l| (0..l.len()).map(move |k| [l[k], l[(k + 1) % l.len()]])).collect();
     if count_boundary_crossings(uv, &boundary) > 0 {
         return Err(Refusal::Overlaps);
     }
@@ -364,19 +368,31 @@ fn orient_and_check(disk: &TriMesh, uv: &mut [[f64; 2]]) -> std::result::Result<
 /// Scales the UVs so that their area equals the 3D area; returns the L2 stretch (Sander et al.
 /// 2001, normalised as in `metrics`) and the 3D area.
 fn scale_to_area(disk: &TriMesh, uv: &mut [[f64; 2]]) -> (f64, f64) {
-    let mut area_3d = 0.0;
-    let mut area_uv = 0.0;
-    let mut weighted = 0.0;
-    for t in disk.triangles() {
-        let p = t.map(|v| disk.points()[v as usize]);
-        let q = uv_triangle(uv, *t);
-        let a = triangle_area_3d(p);
-        area_3d += a;
-        area_uv += signed_uv_area(q);
-        if let Some((s1, s2)) = per_triangle_singular_values(p, q) {
-            weighted += a * 0.5 * (s1 * s1 + s2 * s2);
+    // (3D area, UV area, Σ A (σ1² + σ2²)/2) in fixed chunks summed in order: the same sums
+    // whatever the thread count, in parallel on large charts.
+    let sums = |tris: &[[u32; 3]]| {
+        let mut s = [0.0; 3];
+        for t in tris {
+            let p = t.map(|v| disk.points()[v as usize]);
+            let q = uv_triangle(uv, *t);
+            let a = triangle_area_3d(p);
+            s[0] += a;
+            s[1] += signed_uv_area(q);
+            if let Some((s1, s2)) = per_triangle_singular_values(p, q) {
+                s[2] += a * 0.5 * (s1 * s1 + s2 * s2);
+            }
         }
-    }
+        s
+    };
+    const CHUNK: usize = 4096;
+    let parts: Vec<[f64; 3]> = if disk.triangle_count() < crate::parallel::SEQUENTIAL_BELOW {
+        vec![sums(disk.triangles())]
+    } else {
+        use rayon::prelude::*;
+        disk.triangles().par_chunks(CHUNK).map(sums).collect()
+    };
+    let [area_3d, area_uv, weighted] =
+        parts.iter().fold([0.0; 3], |acc, s| [acc[0] + s[0], acc[1] + s[1], acc[2] + s[2]]);
     let k = (area_3d / area_uv).sqrt();
     for p in uv.iter_mut() {
         *p = [p[0] * k, p[1] * k];
