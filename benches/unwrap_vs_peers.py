@@ -86,22 +86,25 @@ def corner_angles(p0, p1, p2):
     return np.stack([angle(p0, p1, p2), angle(p1, p2, p0), angle(p2, p0, p1)], axis=1)
 
 
-def stretch_l2(P, Q):
-    """Sander L2 stretch of triangles P (3 × (m, 3)) mapped from UV triangles Q (3 × (m, 2))."""
+def stretch_l2(P, Q, island=None, count=1):
+    """Sander L2 stretch of triangles P (3 × (m, 3)) mapped from UV triangles Q (3 × (m, 2)),
+    each island scaled alone to its 3D area; one value per island (islands: `island` ids)."""
+    island = np.zeros(len(P[0]), dtype=np.int64) if island is None else island
     e1, e2 = Q[1] - Q[0], Q[2] - Q[0]
     area2 = np.abs(0.5 * (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]))
     area3 = 0.5 * np.linalg.norm(np.cross(P[1] - P[0], P[2] - P[0]), axis=1)
-    if area2.sum() == 0:
-        return float("inf")
-    scale = np.sqrt(area3.sum() / area2.sum())
-    d1, d2 = e1 * scale, e2 * scale
-    a2s = area2 * scale * scale
-    ok = a2s > 0
+    ok = area2 > 0
     s1, s2 = P[1] - P[0], P[2] - P[0]
-    fu = (s1 * d2[:, 1:2] - s2 * d1[:, 1:2])[ok] / (2 * a2s[ok])[:, None]
-    fv = (s2 * d1[:, 0:1] - s1 * d2[:, 0:1])[ok] / (2 * a2s[ok])[:, None]
-    sq = (np.einsum("ij,ij->i", fu, fu) + np.einsum("ij,ij->i", fv, fv)) / 2
-    return float(np.sqrt(np.sum(area3[ok] * sq) / np.sum(area3[ok])))
+    # Stretch of the map UV → surface before scaling: |f_u|² + |f_v|², f_u = (s1 d2v − s2 d1v)/2A.
+    a2 = np.where(ok, area2, 1.0)[:, None]
+    fu = (s1 * e2[:, 1:2] - s2 * e1[:, 1:2]) / (2 * a2)
+    fv = (s2 * e1[:, 0:1] - s1 * e2[:, 0:1]) / (2 * a2)
+    sq = np.where(ok, (np.einsum("ij,ij->i", fu, fu) + np.einsum("ij,ij->i", fv, fv)) / 2, 0.0)
+    a3_ok = np.where(ok, area3, 0.0)
+    per = lambda w: np.bincount(island, weights=w, minlength=count)  # noqa: E731
+    # Scaling an island's UVs by k divides σ² by k², k² = A3 / A2 of the island.
+    scale = per(area3) / np.maximum(per(area2), 1e-300)
+    return np.sqrt(per(a3_ok * sq) / np.maximum(per(a3_ok), 1e-300) / scale)
 
 
 def measure(V, F, uv, ft):
@@ -122,9 +125,9 @@ def measure(V, F, uv, ft):
         lo, hi = uv[members, 0].min(), uv[members, 0].max()
         oriented[members, 0] = lo + hi - uv[members, 0]
     check = uvflat.check_layout(oriented, ft)
-    worst = max(stretch_l2([p[island == i] for p in P], [q[island == i] for q in Q]) for i in range(count))
+    worst = float(stretch_l2(P, Q, island, count).max())
     angle = float(np.degrees(np.mean(np.abs(corner_angles(*Q) - corner_angles(*P)))))
-    return {"islands": count, "flips": flips, "overlaps": check.overlaps, "l2": stretch_l2(P, Q), "max_l2": worst,
+    return {"islands": count, "flips": flips, "overlaps": check.overlaps, "l2": float(stretch_l2(P, Q)[0]), "max_l2": worst,
             "angle": angle}
 
 
@@ -217,7 +220,8 @@ def bijective_table(mesh_dir, names, repeats):
         for bijective in (False, True):
             s, (uv, _) = timed(lambda: uvflat.nonlinear_map(V, F, "slim", bijective=bijective), repeats)
             check = uvflat.check_layout(uv, F)
-            row.append((check.overlaps, stretch_l2([V[F[:, k]] for k in range(3)], [uv[F[:, k]] for k in range(3)]), s))
+            l2 = float(stretch_l2([V[F[:, k]] for k in range(3)], [uv[F[:, k]] for k in range(3)])[0])
+            row.append((check.overlaps, l2, s))
         ratios.append(row[1][2] / row[0][2])
         print(f"| {name[:-4]} | {len(F)} | {row[0][0]} | {row[1][0]} | {row[0][1]:.4f} | {row[1][1]:.4f} | "
               f"{row[0][2]:.2f} | {row[1][2]:.2f} | {ratios[-1]:.2f} |", flush=True)
