@@ -1756,6 +1756,21 @@ class Atlas:
         return self.uv[self.triangles]
 
 
+def _atlas_arrays(lib: Any, handle: Any) -> Tuple[Any, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Info, UVs, per-corner UV indices, input vertices and chart ids of an atlas handle."""
+    info = L.UvfAtlasInfo()
+    _check(lib.uvf_atlas_info(handle, byref(info)))
+    uv = np.empty((info.vertex_count, 2), dtype=np.float64)
+    uv_triangles = np.empty((info.triangle_count, 3), dtype=np.uint32)
+    original = np.empty(info.vertex_count, dtype=np.uint32)
+    charts = np.empty(info.triangle_count, dtype=np.uint32)
+    _check(lib.uvf_atlas_copy_uv(handle, _f64p(uv), uv.size))
+    _check(lib.uvf_atlas_copy_triangles(handle, _u32p(uv_triangles), uv_triangles.size))
+    _check(lib.uvf_atlas_copy_original_vertices(handle, _u32p(original), original.size))
+    _check(lib.uvf_atlas_copy_charts(handle, _u32p(charts), charts.size))
+    return info, uv, uv_triangles, original, charts
+
+
 _ATLAS_METHODS = {
     "natural_conformal": L.UVF_ATLAS_CHART_NATURAL_CONFORMAL,
     "lscm": L.UVF_ATLAS_CHART_NATURAL_CONFORMAL,
@@ -1804,17 +1819,8 @@ def atlas(
     handle = POINTER(L.UvfAtlas)()
     bridge.run(lambda: lib.uvf_atlas(_f64p(p), len(p), _u32p(t), len(t), byref(options), byref(handle)))
     try:
-        info = L.UvfAtlasInfo()
-        _check(lib.uvf_atlas_info(handle, byref(info)))
-        uv = np.empty((info.vertex_count, 2), dtype=np.float64)
-        uv_triangles = np.empty((info.triangle_count, 3), dtype=np.uint32)
-        original = np.empty(info.vertex_count, dtype=np.uint32)
-        charts = np.empty(info.triangle_count, dtype=np.uint32)
+        info, uv, uv_triangles, original, charts = _atlas_arrays(lib, handle)
         corner = np.empty((info.triangle_count, 3, 2), dtype=np.float64)
-        _check(lib.uvf_atlas_copy_uv(handle, _f64p(uv), uv.size))
-        _check(lib.uvf_atlas_copy_triangles(handle, _u32p(uv_triangles), uv_triangles.size))
-        _check(lib.uvf_atlas_copy_original_vertices(handle, _u32p(original), original.size))
-        _check(lib.uvf_atlas_copy_charts(handle, _u32p(charts), charts.size))
         _check(lib.uvf_atlas_copy_corner_uv(handle, _f64p(corner), corner.size))
     finally:
         lib.uvf_atlas_free(handle)
@@ -1936,17 +1942,8 @@ def unwrap(
         _check(lib.uvf_unwrap_report(handle, byref(report)))
         layout = POINTER(L.UvfAtlas)()
         _check(lib.uvf_unwrap_atlas(handle, byref(layout)))
-        info = L.UvfAtlasInfo()
-        _check(lib.uvf_atlas_info(layout, byref(info)))
-        uv = np.empty((info.vertex_count, 2), dtype=np.float64)
-        uv_triangles = np.empty((info.triangle_count, 3), dtype=np.uint32)
-        original = np.empty(info.vertex_count, dtype=np.uint32)
-        islands = np.empty(info.triangle_count, dtype=np.uint32)
+        _, uv, uv_triangles, original, islands = _atlas_arrays(lib, layout)
         seams = np.empty((report.seam_edges, 2), dtype=np.uint32)
-        _check(lib.uvf_atlas_copy_uv(layout, _f64p(uv), uv.size))
-        _check(lib.uvf_atlas_copy_triangles(layout, _u32p(uv_triangles), uv_triangles.size))
-        _check(lib.uvf_atlas_copy_original_vertices(layout, _u32p(original), original.size))
-        _check(lib.uvf_atlas_copy_charts(layout, _u32p(islands), islands.size))
         _check(lib.uvf_unwrap_copy_seams(handle, _u32p(seams), seams.size))
     finally:
         lib.uvf_unwrap_free(handle)
