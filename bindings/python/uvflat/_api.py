@@ -1771,6 +1771,17 @@ def _atlas_arrays(lib: Any, handle: Any) -> Tuple[Any, np.ndarray, np.ndarray, n
     return info, uv, uv_triangles, original, charts
 
 
+def _set_layout_options(options: Any, max_stretch: float, margin: float, method: str, iterations: int, rotate: bool) -> None:
+    """The fields `UvfAtlasOptions` and `UvfUnwrapOptions` share, checked."""
+    options.max_stretch = float(max_stretch)
+    options.margin = float(margin)
+    options.method = _code(method, _ATLAS_METHODS, "method")
+    if not (isinstance(iterations, int) and 0 <= iterations < 2**32):
+        raise InvalidArgument(f"iterations must be an integer in [0, 2^32), not {iterations!r}")
+    options.iterations = iterations
+    options.rotate = 1 if rotate else 0
+
+
 _ATLAS_METHODS = {
     "natural_conformal": L.UVF_ATLAS_CHART_NATURAL_CONFORMAL,
     "lscm": L.UVF_ATLAS_CHART_NATURAL_CONFORMAL,
@@ -1803,13 +1814,7 @@ def atlas(
     lib = L.library()
     options = L.UvfAtlasOptions()
     lib.uvf_atlas_options_default(byref(options))
-    options.max_stretch = float(max_stretch)
-    options.margin = float(margin)
-    options.method = _code(method, _ATLAS_METHODS, "method")
-    if not (isinstance(iterations, int) and 0 <= iterations < 2**32):
-        raise InvalidArgument(f"iterations must be an integer in [0, 2^32), not {iterations!r}")
-    options.iterations = iterations
-    options.rotate = 1 if rotate else 0
+    _set_layout_options(options, max_stretch, margin, method, iterations, rotate)
     options.merge = 1 if merge else 0
     if not (isinstance(polish_iterations, int) and 0 <= polish_iterations < 2**32):
         raise InvalidArgument(f"polish_iterations must be an integer in [0, 2^32), not {polish_iterations!r}")
@@ -1925,13 +1930,7 @@ def unwrap(
     lib = L.library()
     options = L.UvfUnwrapOptions()
     lib.uvf_unwrap_options_default(byref(options))
-    options.max_stretch = float(max_stretch)
-    options.margin = float(margin)
-    options.method = _code(method, _ATLAS_METHODS, "method")
-    if not (isinstance(iterations, int) and 0 <= iterations < 2**32):
-        raise InvalidArgument(f"iterations must be an integer in [0, 2^32), not {iterations!r}")
-    options.iterations = iterations
-    options.rotate = 1 if rotate else 0
+    _set_layout_options(options, max_stretch, margin, method, iterations, rotate)
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     handle = POINTER(L.UvfUnwrap)()
