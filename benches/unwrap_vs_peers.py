@@ -148,21 +148,10 @@ def run_xatlas(V, F):
 def run_blender(V, F):
     import bpy
 
-    if bpy.context.mode != "OBJECT":
-        bpy.ops.object.mode_set(mode="OBJECT")
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj, do_unlink=True)
-    for me in list(bpy.data.meshes):
-        bpy.data.meshes.remove(me)
-    me = bpy.data.meshes.new("bench")
-    me.from_pydata(V.tolist(), [], F.tolist())
-    me.update()
-    obj = bpy.data.objects.new("bench", me)
-    bpy.context.scene.collection.objects.link(obj)
-    bpy.context.view_layer.objects.active = obj
-    obj.select_set(True)
-    bpy.ops.object.mode_set(mode="EDIT")
-    bpy.ops.mesh.select_all(action="SELECT")
+    sys.path.insert(0, HERE)
+    from blender_abf import blender_object  # a fresh mesh object, in Edit Mode, all selected
+
+    me = blender_object(V, F).data
     start = time.perf_counter()
     assert bpy.ops.uv.unwrap(method="ANGLE_BASED", margin=0.005) == {"FINISHED"}
     assert bpy.ops.uv.pack_islands(rotate=True, margin=0.005) == {"FINISHED"}

@@ -127,13 +127,12 @@ impl Scaffold {
             .map(|p| Point2::new(p[0], p[1]))
             .collect();
         let constraints: Vec<[usize; 2]> = edges.iter().map(|e| [local[&e[0]], local[&e[1]]]).collect();
-        let mut conflicts = 0usize;
+        let (mut conflicts, count) = (0usize, points.len());
         let cdt =
-            ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(points.clone(), constraints, |_| {
-                conflicts += 1
-            })
-            .map_err(|e| Error::InvalidArgument(format!("the map's boundary cannot be triangulated: {e:?}")))?;
-        if conflicts > 0 || cdt.num_vertices() != points.len() {
+            ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(points, constraints, |_| conflicts += 1)
+                .map_err(|e| Error::InvalidArgument(format!("the map's boundary cannot be triangulated: {e:?}")))?;
+        // A duplicate point is merged by the triangulation: two boundary vertices coincide.
+        if conflicts > 0 || cdt.num_vertices() != count {
             return Err(Error::InvalidArgument(
                 "the map's boundary crosses or touches itself; a scaffold needs a bijective start".into(),
             ));
