@@ -123,6 +123,15 @@ pub fn per_triangle_singular_values(p: [[f64; 3]; 3], q: [[f64; 2]; 3]) -> Optio
     Some((sigma1, sigma2.min(sigma1)))
 }
 
+/// σ1² + σ2² of the map from the uv triangle `q` to the surface triangle `p`: the squared
+/// Frobenius norm |J_u|² + |J_v|² of its Jacobian (the trace of the first fundamental form), the
+/// L2 stretch's integrand without the eigen-decomposition of [`per_triangle_singular_values`]
+/// and without its degeneracy tests: for a `q` known to be proper (positive, not degenerate).
+pub(crate) fn squared_singular_value_sum(p: [[f64; 3]; 3], q: [[f64; 2]; 3]) -> f64 {
+    let (ju, jv) = jacobian_columns(p, q);
+    dot3(ju, ju) + dot3(jv, jv)
+}
+
 /// Distortion of the map sending uv triangle `uv_triangles[t]` (indices into `uv`) onto surface
 /// triangle `triangles[t]` (indices into `positions`). Per-vertex uv: pass the same triangles
 /// twice. Errors name the offending triangle: length mismatch, no triangles, an index out of
@@ -218,33 +227,49 @@ fn area_is_negligible(twice_area: f64, longest_squared: f64) -> bool {
 }
 
 /// Edges of the uv layout, split into boundary (used once) and interior (used twice or more).
-/// Edges whose two indices are equal are dropped. O(m log m) by sorting edge keys.
+/// Edges whose two indices are equal are dropped. O(m + n) for m edges over n indices, plus
+/// the sort of each index's few edges.
 pub fn uv_edges(uv_triangles: &[[u32; 3]]) -> UvEdges {
-    let mut keys: Vec<u64> = uv_triangles
-        .iter()
-        .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
-        .filter(|[a, b]| a != b)
-        .map(|[a, b]| (u64::from(a.min(b)) << 32) | u64::from(a.max(b)))
-        .collect();
-    if keys.len() < crate::parallel::SEQUENTIAL_BELOW {
-        keys.sort_unstable();
-    } else {
-        rayon::slice::ParallelSliceMut::par_sort_unstable(keys.as_mut_slice());
+    // Bucketed by the smaller index (a counting sort: linear), each bucket sorted by the larger
+    // index: the order of sorting every edge key, without that O(m log m) sort (a third of the
+    // layout check of a large chart was the sort).
+    let n = uv_triangles.iter().flatten().max().map_or(0, |&m| m as usize + 1);
+    let mut start = vec![0usize; n + 1];
+    for t in uv_triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if a != b {
+                start[a.min(b) as usize + 1] += 1;
+            }
+        }
+    }
+    for v in 0..n {
+        start[v + 1] += start[v];
+    }
+    let mut larger = vec![0u32; start[n]];
+    let mut fill = start.clone();
+    for t in uv_triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if a != b {
+                let smaller = a.min(b) as usize;
+                larger[fill[smaller]] = a.max(b);
+                fill[smaller] += 1;
+            }
+        }
     }
     let mut edges = UvEdges::default();
-    let mut i = 0;
-    while i < keys.len() {
-        let mut j = i + 1;
-        while j < keys.len() && keys[j] == keys[i] {
-            j += 1;
+    for v in 0..n {
+        let bucket = &mut larger[start[v]..start[v + 1]];
+        bucket.sort_unstable();
+        for run in bucket.chunk_by(|x, y| x == y) {
+            let edge = [v as u32, run[0]];
+            if run.len() == 1 {
+                edges.boundary.push(edge);
+            } else {
+                edges.interior.push(edge);
+            }
         }
-        let edge = [(keys[i] >> 32) as u32, keys[i] as u32];
-        if j - i == 1 {
-            edges.boundary.push(edge);
-        } else {
-            edges.interior.push(edge);
-        }
-        i = j;
     }
     edges
 }

@@ -132,14 +132,18 @@ pub fn unwrap_with_progress(mesh: &TriMesh, options: &UnwrapOptions, progress: &
         repair: true,
     };
     let atlas = atlas_with_progress(mesh, &atlas_options, progress)?;
-    let validity = check_layout(&atlas.uv, &atlas.triangles);
+    // The verification and the report's figures read the layout side by side.
+    let (validity, (seams, angle_error)) = crate::parallel::join(
+        atlas.triangles.len(),
+        || check_layout(&atlas.uv, &atlas.triangles),
+        || (seam_edges(mesh, &atlas), mean_angle_error(mesh, &atlas)),
+    );
     if !validity.is_valid() {
         return Err(Error::Internal(format!(
             "the unwrap's layout failed verification ({} flipped triangles, {} overlaps); please report this mesh",
             validity.flipped, validity.overlaps
         )));
     }
-    let seams = seam_edges(mesh, &atlas);
     let report = UnwrapReport {
         islands: atlas.charts.len(),
         repaired_islands: atlas.charts.iter().filter(|c| c.repaired).count(),
@@ -148,7 +152,7 @@ pub fn unwrap_with_progress(mesh: &TriMesh, options: &UnwrapOptions, progress: &
         overlaps: validity.overlaps,
         stretch_l2: atlas.stretch_l2,
         max_island_stretch: atlas.charts.iter().map(|c| c.stretch_l2).fold(0.0, f64::max),
-        angle_error_mean_deg: mean_angle_error(mesh, &atlas).to_degrees(),
+        angle_error_mean_deg: angle_error.to_degrees(),
         utilization: atlas.utilization,
     };
     Ok(Unwrapped { atlas, seams, report })
@@ -161,14 +165,16 @@ fn mean_angle_error(mesh: &TriMesh, atlas: &Atlas) -> f64 {
     let surface = mesh.corner_angles();
     let errors = crate::parallel::map_range(atlas.triangles.len(), |t| {
         let q = atlas.triangles[t].map(|v| atlas.uv[v as usize]);
-        (0..3)
-            .map(|k| {
-                let (a, b) = (q[(k + 1) % 3], q[(k + 2) % 3]);
-                let (e1, e2) = ([a[0] - q[k][0], a[1] - q[k][1]], [b[0] - q[k][0], b[1] - q[k][1]]);
-                let angle = (e1[0] * e2[1] - e1[1] * e2[0]).abs().atan2(e1[0] * e2[0] + e1[1] * e2[1]);
-                (angle - surface[t][k]).abs()
-            })
-            .sum::<f64>()
+        let angle = |k: usize| {
+            let (a, b) = (q[(k + 1) % 3], q[(k + 2) % 3]);
+            let (e1, e2) = ([a[0] - q[k][0], a[1] - q[k][1]], [b[0] - q[k][0], b[1] - q[k][1]]);
+            (e1[0] * e2[1] - e1[1] * e2[0]).abs().atan2(e1[0] * e2[0] + e1[1] * e2[1])
+        };
+        // Both triangles' angles sum to π, so the third follows from the first two.
+        let (a0, a1) = (angle(0), angle(1));
+        let a2 = std::f64::consts::PI - a0 - a1;
+        let s = surface[t];
+        (a0 - s[0]).abs() + (a1 - s[1]).abs() + (a2 - s[2]).abs()
     });
     errors.iter().sum::<f64>() / (3 * errors.len().max(1)) as f64
 }

@@ -21,7 +21,6 @@
 //! about the mean boundary edge length), near-linear on real layouts.
 
 use robust::{orient2d, Coord};
-use std::collections::HashMap;
 
 /// What [`check_layout`] found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -61,8 +60,13 @@ pub fn check_layout(uv: &[[f64; 2]], uv_triangles: &[[u32; 3]]) -> Validity {
         let q = [uv.get(t[0] as usize)?, uv.get(t[1] as usize)?, uv.get(t[2] as usize)?];
         q.iter().all(|p| finite(**p)).then(|| q.map(|p| *p))
     };
-    let flipped = uv_triangles.iter().filter(|t| corner(t).is_none_or(|[a, b, c]| !(orient(a, b, c) > 0.0))).count();
-    let valid: Vec<[u32; 3]> = uv_triangles.iter().filter(|t| corner(t).is_some()).copied().collect();
+    // Per triangle: (has finite corners in range, is counter-clockwise), in parallel on large
+    // layouts (the orientation predicates are a third of the check).
+    let state = crate::parallel::map_range(uv_triangles.len(), |t| {
+        corner(&uv_triangles[t]).map_or((false, false), |[a, b, c]| (true, orient(a, b, c) > 0.0))
+    });
+    let flipped = state.iter().filter(|s| !s.1).count();
+    let valid: Vec<[u32; 3]> = uv_triangles.iter().zip(&state).filter(|(_, s)| s.0).map(|(t, _)| *t).collect();
     let island = islands(uv.len(), &valid);
     let count = island.iter().max().map_or(0, |&m| m as usize + 1);
     let edges = crate::metrics::uv_edges(&valid).boundary;
@@ -88,21 +92,26 @@ pub fn islands(vertex_count: usize, tris: &[[u32; 3]]) -> Vec<u32> {
             parent[s as usize] = r;
         }
     }
-    let mut number: HashMap<u32, u32> = HashMap::new();
+    let mut number = vec![u32::MAX; vertex_count];
+    let mut count = 0;
     tris.iter()
         .map(|t| {
-            let root = find(&mut parent, t[0]);
-            let next = number.len() as u32;
-            *number.entry(root).or_insert(next)
+            let root = find(&mut parent, t[0]) as usize;
+            if number[root] == u32::MAX {
+                number[root] = count;
+                count += 1;
+            }
+            number[root]
         })
         .collect()
 }
 
-/// A uniform grid over boxes: the cells each box overlaps.
+/// A uniform grid over boxes: the cells each box overlaps, as (cell, box) pairs sorted by cell
+/// (a sort instead of a hash map of cells: the map's hashing took a third of the check).
 struct Grid {
     origin: [f64; 2],
     cell: f64,
-    cells: HashMap<(i64, i64), Vec<u32>>,
+    entries: Vec<(u64, u32)>,
 }
 
 impl Grid {
@@ -120,20 +129,45 @@ impl Grid {
         // About the mean box size, and at least 1/1024 of the layout's extent.
         let mean = size / boxes.len().max(1) as f64;
         let cell = mean.max(extent / 1024.0).max(f64::MIN_POSITIVE);
-        let mut grid = Grid { origin: lo, cell, cells: HashMap::new() };
+        let mut grid = Grid { origin: lo, cell, entries: Vec::with_capacity(boxes.len()) };
         for (i, (a, b)) in boxes.iter().enumerate() {
-            let (p, q) = (grid.key(*a), grid.key(*b));
+            let (p, q) = (grid.cell_of(*a), grid.cell_of(*b));
             for x in p.0..=q.0 {
                 for y in p.1..=q.1 {
-                    grid.cells.entry((x, y)).or_default().push(i as u32);
+                    grid.entries.push((Grid::key(x, y), i as u32));
                 }
             }
         }
+        grid.entries.sort_unstable();
         grid
     }
 
-    fn key(&self, p: [f64; 2]) -> (i64, i64) {
-        (((p[0] - self.origin[0]) / self.cell).floor() as i64, ((p[1] - self.origin[1]) / self.cell).floor() as i64)
+    /// Cell coordinates of a point inside the boxes' bounds (never negative: the origin is
+    /// their lower corner).
+    fn cell_of(&self, p: [f64; 2]) -> (u64, u64) {
+        let c = |d: usize| ((p[d] - self.origin[d]) / self.cell).floor().max(0.0) as u64;
+        (c(0), c(1))
+    }
+
+    fn key(x: u64, y: u64) -> u64 {
+        (x << 32) | y
+    }
+
+    fn key_of(&self, p: [f64; 2]) -> u64 {
+        let (x, y) = self.cell_of(p);
+        Grid::key(x, y)
+    }
+
+    /// Every non-empty cell: its (cell, box) entries.
+    fn cells(&self) -> impl Iterator<Item = &[(u64, u32)]> + '_ {
+        self.entries.chunk_by(|a, b| a.0 == b.0)
+    }
+
+    /// The boxes in the cell of `p`.
+    fn members(&self, p: [f64; 2]) -> impl Iterator<Item = u32> + '_ {
+        let key = self.key_of(p);
+        let start = self.entries.partition_point(|e| e.0 < key);
+        self.entries[start..].iter().take_while(move |e| e.0 == key).map(|e| e.1)
     }
 }
 
@@ -159,15 +193,16 @@ fn touching_edge_pairs(uv: &[[f64; 2]], edges: &[[u32; 2]]) -> usize {
         edges.iter().map(|e| bounds(&[uv[e[0] as usize], uv[e[1] as usize]])).collect();
     let grid = Grid::new(&boxes);
     let mut count = 0;
-    for (key, members) in &grid.cells {
-        for (k, &i) in members.iter().enumerate() {
-            for &j in &members[k + 1..] {
+    for members in grid.cells() {
+        let key = members[0].0;
+        for (k, &(_, i)) in members.iter().enumerate() {
+            for &(_, j) in &members[k + 1..] {
                 let (bi, bj) = (boxes[i as usize], boxes[j as usize]);
                 let corner = [bi.0[0].max(bj.0[0]), bi.0[1].max(bj.0[1])];
                 if corner[0] > bi.1[0].min(bj.1[0]) || corner[1] > bi.1[1].min(bj.1[1]) {
                     continue; // the boxes are apart
                 }
-                if grid.key(corner) == *key && edges_touch(uv, edges[i as usize], edges[j as usize]) {
+                if grid.key_of(corner) == key && edges_touch(uv, edges[i as usize], edges[j as usize]) {
                     count += 1;
                 }
             }
@@ -223,11 +258,9 @@ fn nested_islands(uv: &[[f64; 2]], tris: &[[u32; 3]], island: &[u32], count: usi
         .enumerate()
         .filter(|(i, p)| {
             let Some(p) = p else { return false };
-            grid.cells.get(&grid.key(*p)).is_some_and(|members| {
-                members.iter().any(|&t| {
-                    let tri = tris[t as usize];
-                    island[t as usize] as usize != *i && inside_or_on(tri.map(|v| uv[v as usize]), *p)
-                })
+            grid.members(*p).any(|t| {
+                let tri = tris[t as usize];
+                island[t as usize] as usize != *i && inside_or_on(tri.map(|v| uv[v as usize]), *p)
             })
         })
         .count()

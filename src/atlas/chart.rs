@@ -34,10 +34,9 @@ use crate::mesh::{next, TriMesh, NONE};
 use crate::methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions};
 use crate::methods::conformal::natural_conformal_map;
 use crate::methods::nonlinear::{nonlinear_map_from, NonlinearMethod, NonlinearOptions};
-use crate::metrics::{
-    count_boundary_crossings, per_triangle_singular_values, signed_uv_area, triangle_area_3d, triangle_is_degenerate_2d,
-};
+use crate::metrics::{count_boundary_crossings, signed_uv_area, squared_singular_value_sum, triangle_is_degenerate_2d};
 use crate::progress::Progress;
+use std::borrow::Cow;
 
 /// A chart made into a flattened disk.
 #[derive(Debug, Clone)]
@@ -76,12 +75,12 @@ pub enum Refusal {
 
 /// The chart mesh of `faces` (sorted input triangles): its triangles per chart face and the
 /// input vertex of every chart vertex (pinches split, see the module docs).
-pub fn chart_mesh(mesh: &TriMesh, faces: &[u32]) -> Result<(TriMesh, Vec<u32>)> {
-    // The whole mesh is its own chart (a validated mesh has no pinched vertex): a copy, not a
-    // second construction of its connectivity (a tenth of a small disk's unwrap).
+fn chart_mesh<'a>(mesh: &'a TriMesh, faces: &[u32]) -> Result<(Cow<'a, TriMesh>, Vec<u32>)> {
+    // The whole mesh is its own chart (a validated mesh has no pinched vertex): borrowed, not
+    // built again (a tenth of a small disk's unwrap) nor copied.
     let whole = faces.len() == mesh.triangle_count() && (0..mesh.vertex_count() as u32).all(|v| mesh.is_referenced(v));
     if whole {
-        return Ok((mesh.clone(), (0..mesh.vertex_count() as u32).collect()));
+        return Ok((Cow::Borrowed(mesh), (0..mesh.vertex_count() as u32).collect()));
     }
     let twin = &mesh.connectivity().twin;
     let local = |f: u32| faces.binary_search(&f).ok();
@@ -115,17 +114,17 @@ pub fn chart_mesh(mesh: &TriMesh, faces: &[u32]) -> Result<(TriMesh, Vec<u32>)> 
     let points: Vec<[f64; 3]> = original.iter().map(|&v| mesh.points()[v as usize]).collect();
     let chart = TriMesh::from_checked(points, triangles)
         .map_err(|e| Error::Internal(format!("a chart mesh is invalid: {e}")))?;
-    Ok((chart, original))
+    Ok((Cow::Owned(chart), original))
 }
 
 /// The chart as a disk (genus 0, ≥ 1 boundary loop): itself, or cut by the tree–cotree cut.
 /// Returns the disk and the chart vertex of every disk vertex.
-fn as_disk(chart: TriMesh) -> Result<(TriMesh, Option<Vec<u32>>)> {
+fn as_disk(chart: Cow<'_, TriMesh>) -> Result<(Cow<'_, TriMesh>, Option<Vec<u32>>)> {
     if chart.require_disk_with_holes().is_ok() {
         return Ok((chart, None));
     }
     let cut = cut_to_disk(&chart, &EdgeCost::default())?;
-    Ok((cut.mesh, Some(cut.original)))
+    Ok((Cow::Owned(cut.mesh), Some(cut.original)))
 }
 
 /// How charts are flattened and judged.
@@ -168,13 +167,7 @@ pub fn flatten_chart(
     let flattened = flatten(&disk, settings.method, settings.iterations);
     let judged = match flattened {
         None => Err(Refusal::Failed),
-        Some(mut uv) => match orient_and_check(&disk, &mut uv) {
-            Err(refusal) => Err(refusal),
-            Ok(()) => {
-                let (stretch, area) = scale_to_area(&disk, &mut uv);
-                Ok((uv, stretch, area))
-            }
-        },
+        Some(mut uv) => checked_and_scaled(&disk, &mut uv).map(|(stretch, area)| (uv, stretch, area)),
     };
     // The bound is met up to round-off: one triangle laid out exactly has a stretch of 1 ± a
     // few ulps, and `max_stretch = 1` (isometric) must accept it.
@@ -269,8 +262,7 @@ fn polish(disk: &TriMesh, uv: &[[f64; 2]], iterations: usize) -> Option<(Vec<[f6
     options.iterations = iterations;
     options.tolerance = 1e-6;
     let mut out = nonlinear_map_from(disk, &options, uv, &mut Progress::none()).ok()?.uv;
-    orient_and_check(disk, &mut out).ok()?;
-    let (stretch, _) = scale_to_area(disk, &mut out);
+    let (stretch, _) = checked_and_scaled(disk, &mut out).ok()?;
     Some((out, stretch))
 }
 
@@ -286,8 +278,7 @@ pub fn repaired(disk: &TriMesh, iterations: usize) -> Option<(Vec<[f64; 2]>, f64
     options.tolerance = 1e-5;
     options.bijective = true;
     let mut uv = nonlinear_map_from(disk, &options, &start, &mut Progress::none()).ok()?.uv;
-    orient_and_check(disk, &mut uv).ok()?;
-    let (stretch, area) = scale_to_area(disk, &mut uv);
+    let (stretch, area) = checked_and_scaled(disk, &mut uv).ok()?;
     Some((uv, stretch, area))
 }
 
@@ -334,7 +325,7 @@ fn is_locally_injective(disk: &TriMesh, uv: &[[f64; 2]]) -> bool {
     })
 }
 
-/// Mirrors a clockwise layout, then checks conditions 1 and 2 of the module docs.
+/// Mirrors a clockwise layout, then checks condition 1 of the module docs.
 fn orient_and_check(disk: &TriMesh, uv: &mut [[f64; 2]]) -> std::result::Result<(), Refusal> {
     if uv.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
         // Unreferenced chart vertices do not exist (charts are built from corners).
@@ -355,44 +346,66 @@ fn orient_and_check(disk: &TriMesh, uv: &mut [[f64; 2]]) -> std::result::Result<
     if bad {
         return Err(Refusal::Flipped);
     }
+    Ok(())
+}
+
+/// Whether two boundary edges of the disk's layout cross (condition 2 of the module docs).
+fn boundary_crosses(disk: &TriMesh, uv: &[[f64; 2]]) -> bool {
     // The disk's UV boundary is its mesh boundary: the loops the mesh already holds (sorting
     // every edge to find them took most of this check on large charts).
     let boundary: Vec<[u32; 2]> =
         disk.boundary_loops().iter().flat_map(|l| (0..l.len()).map(move |k| [l[k], l[(k + 1) % l.len()]])).collect();
-    if count_boundary_crossings(uv, &boundary) > 0 {
-        return Err(Refusal::Overlaps);
-    }
-    Ok(())
+    count_boundary_crossings(uv, &boundary) > 0
 }
 
-/// Scales the UVs so that their area equals the 3D area; returns the L2 stretch (Sander et al.
-/// 2001, normalised as in `metrics`) and the 3D area.
-fn scale_to_area(disk: &TriMesh, uv: &mut [[f64; 2]]) -> (f64, f64) {
+/// Mirrors a clockwise layout, checks the three conditions of the module docs but the bound
+/// (the crossing test and the stretch sums side by side: neither needs the other) and scales
+/// the layout to its 3D area. Returns the L2 stretch and the 3D area.
+fn checked_and_scaled(disk: &TriMesh, uv: &mut [[f64; 2]]) -> std::result::Result<(f64, f64), Refusal> {
+    orient_and_check(disk, uv)?;
+    let (crosses, sums) =
+        crate::parallel::join(disk.triangle_count(), || boundary_crosses(disk, uv), || area_and_stretch_sums(disk, uv));
+    if crosses {
+        return Err(Refusal::Overlaps);
+    }
+    Ok(scale_to_area(uv, sums))
+}
+
+/// (3D area, UV area, Σ A (σ1² + σ2²)/2) of a layout whose triangles are proper.
+fn area_and_stretch_sums(disk: &TriMesh, uv: &[[f64; 2]]) -> [f64; 3] {
     // (3D area, UV area, Σ A (σ1² + σ2²)/2) in fixed chunks summed in order: the same sums
     // whatever the thread count, in parallel on large charts.
-    let sums = |tris: &[[u32; 3]]| {
+    // The 3D areas are the mesh's own (computed with it).
+    let area = &disk.geometry().area;
+    let sums = |range: std::ops::Range<usize>| {
         let mut s = [0.0; 3];
-        for t in tris {
+        for (t, &a) in disk.triangles()[range.clone()].iter().zip(&area[range]) {
             let p = t.map(|v| disk.points()[v as usize]);
             let q = uv_triangle(uv, *t);
-            let a = triangle_area_3d(p);
             s[0] += a;
             s[1] += signed_uv_area(q);
-            if let Some((s1, s2)) = per_triangle_singular_values(p, q) {
-                s[2] += a * 0.5 * (s1 * s1 + s2 * s2);
+            // Every UV triangle is proper here (`orient_and_check`).
+            let sum = squared_singular_value_sum(p, q);
+            if sum.is_finite() {
+                s[2] += a * 0.5 * sum;
             }
         }
         s
     };
     const CHUNK: usize = 4096;
-    let parts: Vec<[f64; 3]> = if disk.triangle_count() < crate::parallel::SEQUENTIAL_BELOW {
-        vec![sums(disk.triangles())]
+    let n = disk.triangle_count();
+    let parts: Vec<[f64; 3]> = if n < crate::parallel::SEQUENTIAL_BELOW {
+        vec![sums(0..n)]
     } else {
         use rayon::prelude::*;
-        disk.triangles().par_chunks(CHUNK).map(sums).collect()
+        (0..n.div_ceil(CHUNK)).into_par_iter().map(|c| sums(c * CHUNK..((c + 1) * CHUNK).min(n))).collect()
     };
-    let [area_3d, area_uv, weighted] =
-        parts.iter().fold([0.0; 3], |acc, s| [acc[0] + s[0], acc[1] + s[1], acc[2] + s[2]]);
+    parts.iter().fold([0.0; 3], |acc, s| [acc[0] + s[0], acc[1] + s[1], acc[2] + s[2]])
+}
+
+/// Scales the UVs so that their area equals the 3D area; returns the L2 stretch (Sander et al.
+/// 2001, normalised as in `metrics`) and the 3D area, from [`area_and_stretch_sums`].
+fn scale_to_area(uv: &mut [[f64; 2]], [area_3d, area_uv, weighted]: [f64; 3]) -> (f64, f64) {
     let k = (area_3d / area_uv).sqrt();
     for p in uv.iter_mut() {
         *p = [p[0] * k, p[1] * k];

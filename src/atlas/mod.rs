@@ -199,13 +199,14 @@ pub fn atlas_with_progress(mesh: &TriMesh, options: &AtlasOptions, progress: &mu
         return Err(Error::InvalidArgument("the mesh has no triangles".into()));
     }
     progress.report(0.0)?;
-    let data = FaceData::new(mesh);
-    let mut charts = segment(mesh, &data, options, progress)?;
+    let mut charts = segment(mesh, options, progress)?;
     if options.merge && charts.len() > 1 {
         charts = merge_charts(mesh, charts, options)?;
     }
     progress.report(0.9)?;
-    charts = charts.into_par_iter().map(|c| polished(mesh, c, options.polish)).collect::<Result<_>>()?;
+    if options.polish > 0 {
+        charts = charts.into_par_iter().map(|c| polished(mesh, c, options.polish)).collect::<Result<_>>()?;
+    }
     progress.report(0.95)?;
     check_margin_fits(charts.len(), options.margin)?;
     let result = assemble(mesh, charts, options);
@@ -225,26 +226,35 @@ fn components(mesh: &TriMesh) -> Vec<Vec<u32>> {
 }
 
 /// Top-down: flatten, accept or split, level by level.
-fn segment(mesh: &TriMesh, data: &FaceData, options: &AtlasOptions, progress: &mut Progress) -> Result<Vec<FlatChart>> {
+fn segment(mesh: &TriMesh, options: &AtlasOptions, progress: &mut Progress) -> Result<Vec<FlatChart>> {
+    // The splits' face normals and areas, computed at the first split (a mesh whose components
+    // are accepted whole never needs them).
+    let data = std::sync::OnceLock::new();
     let total = mesh.triangle_count() as f64;
     let mut pending = components(mesh);
     let mut accepted: Vec<FlatChart> = Vec::new();
     let mut done = 0usize;
     let mut settings = options.chart_settings();
     while !pending.is_empty() {
-        let outcomes: Vec<Result<std::result::Result<FlatChart, (Vec<u32>, Vec<u32>)>>> = pending
-            .into_par_iter()
-            .map(|faces| {
-                let keep = faces.clone();
-                match flatten_chart(mesh, faces, &settings)? {
-                    Ok(chart) => Ok(Ok(chart)),
-                    Err(_) if keep.len() >= 2 => Ok(Err(split_in_two(mesh, data, &keep))),
-                    Err(refusal) => exact_triangle_chart(mesh, keep[0])
-                        .map(Ok)
-                        .ok_or_else(|| single_triangle_failure(&keep, refusal)),
+        let attempt = |faces: Vec<u32>| {
+            let keep = faces.clone();
+            match flatten_chart(mesh, faces, &settings)? {
+                Ok(chart) => Ok(Ok(chart)),
+                Err(_) if keep.len() >= 2 => {
+                    Ok(Err(split_in_two(mesh, data.get_or_init(|| FaceData::new(mesh)), &keep)))
                 }
-            })
-            .collect();
+                Err(refusal) => {
+                    exact_triangle_chart(mesh, keep[0]).map(Ok).ok_or_else(|| single_triangle_failure(&keep, refusal))
+                }
+            }
+        };
+        // One chart (a whole component at the first level) is flattened on this thread: the
+        // pool's hand-over would cost more than it gives (its solver runs in parallel anyway).
+        let outcomes: Vec<Result<std::result::Result<FlatChart, (Vec<u32>, Vec<u32>)>>> = if pending.len() == 1 {
+            pending.into_iter().map(attempt).collect()
+        } else {
+            pending.into_par_iter().map(attempt).collect()
+        };
         pending = Vec::new();
         for outcome in outcomes {
             match outcome? {

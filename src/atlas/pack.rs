@@ -87,24 +87,7 @@ pub fn pack(charts: &mut [Vec<[f64; 2]>], areas: &[f64], margin: f64, rotate: bo
 /// Rotation putting the chart's minimum-area rectangle (or its bounding box when `rotate` is
 /// false) axis-aligned at the origin, at least as wide as high; returns it and the rectangle.
 pub(super) fn orient(uv: &[[f64; 2]], rotate: bool) -> (Transform, [f64; 2]) {
-    let mut angle = 0.0;
-    if rotate {
-        let hull = convex_hull(uv);
-        let mut best = f64::INFINITY;
-        for i in 0..hull.len() {
-            let (a, b) = (hull[i], hull[(i + 1) % hull.len()]);
-            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-            if dx == 0.0 && dy == 0.0 {
-                continue;
-            }
-            let theta = -dy.atan2(dx);
-            let (w, h) = extent(&hull, theta.cos(), theta.sin());
-            if w * h < best {
-                best = w * h;
-                angle = theta;
-            }
-        }
-    }
+    let angle = if rotate { minimum_area_rectangle_angle(&convex_hull(uv)) } else { 0.0 };
     let (mut c, mut s) = (angle.cos(), angle.sin());
     let (w, h) = extent(uv, c, s);
     if rotate && h > w {
@@ -112,6 +95,49 @@ pub(super) fn orient(uv: &[[f64; 2]], rotate: bool) -> (Transform, [f64; 2]) {
     }
     let (lo, hi) = bounds(uv, c, s);
     (Transform { cos: c, sin: s, offset: [-lo[0], -lo[1]] }, [hi[0] - lo[0], hi[1] - lo[1]])
+}
+
+/// Rotation angle that makes the minimum-area enclosing rectangle of a convex polygon
+/// (counter-clockwise) axis-aligned. The rectangle has a side on a hull edge (Freeman & Shapira
+/// 1975); rotating calipers (Toussaint 1983) visit every edge with the extreme points along and
+/// across it, each advancing monotonically, in O(h) instead of O(h²).
+fn minimum_area_rectangle_angle(hull: &[[f64; 2]]) -> f64 {
+    let n = hull.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let at = |i: usize| hull[i % n];
+    // Projections of point p on the direction d of the edge starting at a, and across it.
+    let along = |a: [f64; 2], d: [f64; 2], p: [f64; 2]| (p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1];
+    let across = |a: [f64; 2], d: [f64; 2], p: [f64; 2]| d[0] * (p[1] - a[1]) - d[1] * (p[0] - a[0]);
+    let (mut right, mut top, mut left) = (1usize, 1usize, 1usize);
+    let (mut best, mut angle) = (f64::INFINITY, 0.0);
+    for i in 0..n {
+        let (a, b) = (at(i), at(i + 1));
+        let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+        if length == 0.0 {
+            continue;
+        }
+        let d = [(b[0] - a[0]) / length, (b[1] - a[1]) / length];
+        // Each pointer moves forward while that improves its extreme (at most a full turn).
+        let advance = |mut k: usize, better: &dyn Fn(usize, usize) -> bool| {
+            let stop = k + n;
+            while k + 1 < stop && better(k + 1, k) {
+                k += 1;
+            }
+            k
+        };
+        right = advance(right.max(i + 1), &|x, y| along(a, d, at(x)) >= along(a, d, at(y)));
+        top = advance(top.max(right), &|x, y| across(a, d, at(x)) >= across(a, d, at(y)));
+        left = advance(left.max(top), &|x, y| along(a, d, at(x)) <= along(a, d, at(y)));
+        let width = along(a, d, at(right)) - along(a, d, at(left));
+        let area = width * across(a, d, at(top));
+        if area < best {
+            best = area;
+            angle = -d[1].atan2(d[0]);
+        }
+    }
+    angle
 }
 
 fn bounds(points: &[[f64; 2]], c: f64, s: f64) -> ([f64; 2], [f64; 2]) {
@@ -132,9 +158,11 @@ fn extent(points: &[[f64; 2]], c: f64, s: f64) -> (f64, f64) {
     (hi[0] - lo[0], hi[1] - lo[1])
 }
 
-/// Convex hull, counter-clockwise (Andrew's monotone chain).
+/// Convex hull, counter-clockwise (Andrew's monotone chain), of the points not strictly inside
+/// the octagon of the extreme points in x, y, x + y and x − y (Akl & Toussaint 1978's
+/// throw-away: a chart's interior vertices need not be sorted).
 fn convex_hull(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
-    let mut p: Vec<[f64; 2]> = points.to_vec();
+    let mut p: Vec<[f64; 2]> = outside_extreme_octagon(points);
     p.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
     p.dedup();
     if p.len() < 3 {
@@ -155,6 +183,40 @@ fn convex_hull(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
         hull.pop();
     }
     hull
+}
+
+/// The points that are not strictly inside the convex octagon whose corners are the points
+/// extreme in x, y, x + y and x − y (those inside cannot be on the hull). All of them when
+/// that polygon is degenerate.
+fn outside_extreme_octagon(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let keys: [fn([f64; 2]) -> f64; 4] = [|p| p[0], |p| p[0] + p[1], |p| p[1], |p| p[1] - p[0]];
+    let Some(&first) = points.first() else { return Vec::new() };
+    // Counter-clockwise: max x, max x + y, max y, max y − x, min x, min x + y, min y, min y − x.
+    let mut corners = [first; 8];
+    for &q in points {
+        for (k, key) in keys.iter().enumerate() {
+            if key(q) > key(corners[k]) {
+                corners[k] = q;
+            }
+            if key(q) < key(corners[k + 4]) {
+                corners[k + 4] = q;
+            }
+        }
+    }
+    let mut polygon: Vec<[f64; 2]> = Vec::with_capacity(8);
+    for c in corners {
+        if polygon.last() != Some(&c) && polygon.first() != Some(&c) {
+            polygon.push(c);
+        }
+    }
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let n = polygon.len();
+    let convex = n >= 3 && (0..n).all(|i| cross(polygon[i], polygon[(i + 1) % n], polygon[(i + 2) % n]) > 0.0);
+    if !convex {
+        return points.to_vec();
+    }
+    let inside = |q: [f64; 2]| (0..n).all(|i| cross(polygon[i], polygon[(i + 1) % n], q) > 0.0);
+    points.iter().copied().filter(|&q| !inside(q)).collect()
 }
 
 /// Tries several strip widths; returns the lower-left corners of the padded rectangles, whether
@@ -268,6 +330,69 @@ fn add_to_skyline(line: &mut Vec<[f64; 3]>, _j: usize, x: f64, w: f64, top: f64)
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn the_throw_away_keeps_every_hull_point() {
+        let mut seed = 99u64;
+        let mut random = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for n in [1, 2, 3, 8, 100, 2000] {
+            let disk: Vec<[f64; 2]> = (0..n)
+                .map(|_| {
+                    let (r, t) = (random().sqrt(), std::f64::consts::TAU * random());
+                    [r * t.cos(), r * t.sin()]
+                })
+                .collect();
+            let kept = outside_extreme_octagon(&disk);
+            assert!(n < 100 || kept.len() < n / 2, "{} of {n} kept", kept.len());
+            // The hull of every point: made of input points, strictly convex, and no point
+            // outside it.
+            let hull = convex_hull(&disk);
+            let h = hull.len();
+            let cross =
+                |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+            assert!(hull.iter().all(|p| disk.contains(p)));
+            if n >= 3 {
+                assert!((0..h).all(|i| cross(hull[i], hull[(i + 1) % h], hull[(i + 2) % h]) > 0.0), "{n} points");
+                assert!(
+                    disk.iter().all(|&q| (0..h).all(|i| cross(hull[i], hull[(i + 1) % h], q) >= 0.0)),
+                    "{n} points"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn rotating_calipers_find_the_rectangle_of_the_exhaustive_search() {
+        // Every hull edge tried with every hull point: the O(h²) definition.
+        let exhaustive = |hull: &[[f64; 2]]| {
+            (0..hull.len())
+                .map(|i| {
+                    let (a, b) = (hull[i], hull[(i + 1) % hull.len()]);
+                    let theta = -(b[1] - a[1]).atan2(b[0] - a[0]);
+                    let (w, h) = extent(hull, theta.cos(), theta.sin());
+                    w * h
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut seed = 12345u64;
+        let mut random = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for n in [3, 4, 5, 10, 50, 400] {
+            for _ in 0..20 {
+                let points: Vec<[f64; 2]> = (0..n).map(|_| [3.0 * random() - 1.0, random()]).collect();
+                let hull = convex_hull(&points);
+                let angle = minimum_area_rectangle_angle(&hull);
+                let (w, h) = extent(&hull, angle.cos(), angle.sin());
+                let best = exhaustive(&hull);
+                assert!((w * h - best).abs() <= 1e-12 * best.max(1.0), "{n} points: {} vs {best}", w * h);
+            }
+        }
+    }
     use super::*;
 
     #[test]
