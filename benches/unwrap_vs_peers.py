@@ -6,6 +6,7 @@ Table 1, for every manifold mesh given (default: every disk_*, holes_* and close
 mesh folder except the subdivided *_loop* ones):
   - uvflat: `uvflat.unwrap(V, F)` (the library's default: islands under L2 1.5, repaired or
     split where the conformal map folds, packed, verified);
+  - uvflat ≤S: the same with `max_stretch=S` (`--tight S`, default 1.01; 0 leaves it out);
   - xatlas: `xatlas.Atlas().add_mesh(V, F); generate()` with its default options (PyPI
     `xatlas`, its own chart growing and packer);
   - Blender: `bpy.ops.uv.unwrap(method='ANGLE_BASED', margin=0.005)` then
@@ -27,7 +28,7 @@ only the UVs and is blind to which tool made them):
 Table 2, on the disk_* meshes: `uvflat.nonlinear_map(V, F, "slim")` against the same with
 `bijective=True`: boundary crossings (the exact checker), L2, seconds (median).
 
-Usage: benches/unwrap_vs_peers.sh [--repeats N] [--skip-blender] [name-filter ...]
+Usage: benches/unwrap_vs_peers.sh [--repeats N] [--skip-blender] [--skip-bijective] [--tight S] [name-filter ...]
 """
 import argparse
 import os
@@ -131,8 +132,8 @@ def measure(V, F, uv, ft):
             "angle": angle}
 
 
-def run_uvflat(V, F):
-    r = uvflat.unwrap(V, F)
+def run_uvflat(V, F, max_stretch=1.5):
+    r = uvflat.unwrap(V, F, max_stretch=max_stretch)
     return r.uv, r.triangles.astype(np.int64)
 
 
@@ -178,14 +179,19 @@ def timed(run, repeats):
     return statistics.median(times), out
 
 
-def peers_table(mesh_dir, names, repeats, blender):
+def peers_table(mesh_dir, names, repeats, blender, tight):
     print("| mesh | faces | tool | islands | flips | overlaps | L2 | max island L2 | angle° | s |")
     print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|")
+    tight_label = f"uvflat ≤{tight:g}"
+    verdicts = {"uvflat": [], tight_label: []}
     for name in names:
         V, F = read_obj(os.path.join(mesh_dir, name))
         rows = []
         seconds, (uv, ft) = timed(lambda: run_uvflat(V, F), repeats)
         rows.append(("uvflat", measure(V, F, uv, ft), seconds))
+        if tight:
+            seconds, (uv, ft) = timed(lambda: run_uvflat(V, F, tight), repeats)
+            rows.append((tight_label, measure(V, F, uv, ft), seconds))
         seconds, (uv, ft, vmap) = timed(lambda: run_xatlas(V, F), repeats)
         rows.append(("xatlas", measure(V, vmap[ft], uv, ft), seconds))
         if blender:
@@ -197,6 +203,15 @@ def peers_table(mesh_dir, names, repeats, blender):
         for label, m, s in rows:
             print(f"| {name[:-4]} | {len(F)} | {label} | {m['islands']} | {m['flips']} | {m['overlaps']} | "
                   f"{m['l2']:.3f} | {m['max_l2']:.3f} | {m['angle']:.3f} | {s:.3f} |", flush=True)
+        xa = dict((label, m) for label, m, _ in rows)["xatlas"]
+        for label, m, _ in rows:
+            if label in verdicts:
+                verdicts[label].append((name[:-4], m["islands"] < xa["islands"], m["l2"] < xa["l2"]))
+    print()
+    for label, rows in verdicts.items():
+        both = [n for n, fewer, lower in rows if fewer and lower]
+        print(f"{label}: fewer islands and lower L2 than xatlas on {len(both)} of {len(rows)}; not on: "
+              + ", ".join(f"{n} (fewer {fewer}, lower {lower})" for n, fewer, lower in rows if not (fewer and lower)))
 
 
 def bijective_table(mesh_dir, names, repeats):
@@ -224,6 +239,8 @@ def main():
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--skip-blender", action="store_true")
     parser.add_argument("--skip-bijective", action="store_true")
+    parser.add_argument("--tight", type=float, default=1.01,
+                        help="also run uvflat.unwrap with this stretch bound (0: do not)")
     args = parser.parse_args()
     names = sorted(n for n in os.listdir(args.meshes) if n.endswith(".obj") and n.startswith(("disk_", "holes_", "closed_"))
                    and "_loop" not in n)
@@ -231,7 +248,7 @@ def main():
         names = [n for n in names if any(f in n for f in args.filters)]
     print(f"uvflat {uvflat.version()}, xatlas (PyPI), load {os.getloadavg()}")
     print()
-    peers_table(args.meshes, names, args.repeats, not args.skip_blender)
+    peers_table(args.meshes, names, args.repeats, not args.skip_blender, args.tight)
     if not args.skip_bijective:
         print()
         bijective_table(args.meshes, [n for n in names if n.startswith("disk_")], args.repeats)

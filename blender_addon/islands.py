@@ -231,9 +231,16 @@ def relative_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
 
 def without_degenerate(island: Island) -> Island:
     """The island without its zero-area triangles (two vertices snapped together but not
-    merged, collinear corners), which the library refuses: they leave slits of zero area, free
-    boundaries of the solve, and their loops still get the UVs of their vertices. The island
-    is returned unchanged when it has none, or when a vertex would be left in no triangle."""
+    merged, collinear corners), which the library refuses. Vertices that coincide (an edge of
+    a zero-area triangle shorter than a millionth of its longest) are first welded into one
+    for the solve (both keep their mesh vertices; their loops get the one UV); the remaining
+    zero-area triangles are left out: slits of zero area, free boundaries of the solve, their
+    loops still getting the UVs of their vertices. The island is returned unchanged when it
+    has none, or when a vertex would be left in no triangle."""
+    bad = relative_areas(island.positions, island.triangles) <= DEGENERATE_RELATIVE_AREA
+    if not bad.any():
+        return island
+    island = welded(island, bad)
     keep = ~(relative_areas(island.positions, island.triangles) <= DEGENERATE_RELATIVE_AREA)
     if keep.all() or not keep.any():
         return island
@@ -245,6 +252,56 @@ def without_degenerate(island: Island) -> Island:
         triangle_loops=island.triangle_loops[keep],
         triangle_diagonals=island.triangle_diagonals[keep],
     )
+
+
+#: Edge length, relative to the longest edge of its zero-area triangle, below which its two
+#: vertices count as one point (snapped together but not merged).
+COINCIDENT_RELATIVE_LENGTH = 1e-6
+
+
+def welded(island: Island, degenerate: np.ndarray) -> Island:
+    """The island with the vertices that coincide welded (see :func:`without_degenerate`):
+    the endpoints of every edge of a ``degenerate`` triangle shorter than
+    ``COINCIDENT_RELATIVE_LENGTH`` times that triangle's longest edge become one vertex, and the
+    triangles that lose a corner to it are dropped. Unchanged when no edge is that short."""
+    t = island.triangles[degenerate].astype(np.int64)
+    p = island.positions
+    a, b = t, np.roll(t, -1, axis=1)
+    length = np.linalg.norm(p[b] - p[a], axis=2)
+    short = length <= COINCIDENT_RELATIVE_LENGTH * length.max(axis=1, keepdims=True)
+    if not short.any():
+        return island
+    root = connected_components(len(p), a[short], b[short])
+    roots, first, new_id = np.unique(root, return_index=True, return_inverse=True)
+    new_id = new_id.reshape(-1)
+    triangles = new_id[island.triangles.astype(np.int64)]
+    proper = (triangles[:, 0] != triangles[:, 1]) & (triangles[:, 1] != triangles[:, 2]) & (triangles[:, 2] != triangles[:, 0])
+    return dataclasses.replace(
+        island,
+        positions=np.ascontiguousarray(p[first]),
+        triangles=np.ascontiguousarray(triangles[proper], dtype=np.uint32),
+        loop_vertex=new_id[island.loop_vertex],
+        triangle_loops=island.triangle_loops[proper],
+        triangle_diagonals=island.triangle_diagonals[proper],
+    )
+
+
+def cut_edges(before: Island, after: Island, loop_edge: np.ndarray, loop_next: np.ndarray) -> np.ndarray:
+    """Mesh edges that the cut from ``before`` to ``after`` (:func:`cut_open`) opened: edges
+    whose two loops in the island join the same two island vertices before and different ones
+    after (a UV seam the mesh does not mark)."""
+
+    def split_edges(island: Island) -> np.ndarray:
+        loops = island.loops
+        following = np.searchsorted(loops, loop_next[loops])
+        ends = np.sort(np.stack([island.loop_vertex, island.loop_vertex[following]], axis=1), axis=1)
+        edges = loop_edge[loops]
+        order = np.argsort(edges, kind="stable")
+        paired = edges[order][1:] == edges[order][:-1]
+        i, j = order[:-1][paired], order[1:][paired]
+        return edges[i][(ends[i] != ends[j]).any(axis=1)]
+
+    return np.setdiff1d(split_edges(after), split_edges(before))
 
 
 def fill_holes(

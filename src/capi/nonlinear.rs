@@ -118,7 +118,11 @@ fn method_from(code: u32) -> Result<NonlinearMethod> {
 /// - `UVF_NONLINEAR_GREEN_LAGRANGE`: (σ1² − 1)² + (σ2² − 1)² (Maillot et al. 1993).
 /// - `UVF_NONLINEAR_DEGENER`: (σ1/σ2 + σ2/σ1)(σ1σ2 + 1/(σ1σ2))^θ (Degener et al. 2003).
 ///
-/// The last four use L-BFGS preconditioned by the cotangent Laplacian.
+/// The last four use L-BFGS preconditioned by the cotangent Laplacian. ARAP and Green–Lagrange
+/// stay finite as a triangle's area goes to zero, so their line search also keeps every
+/// triangle's UV area at or above 1% of its share of the map's area (its 3D area's share of
+/// the surface), or half its area in the start when that is less; the other energies grow
+/// without bound there and need no floor.
 ///
 /// `uv_out` receives 2 doubles per vertex (`vertex_count` pairs); unreferenced vertices get
 /// NaN. `options` may be NULL for defaults; `report_out` may be NULL. Results are

@@ -780,8 +780,23 @@ def test_a_tube_is_unwrapped_with_its_second_hole_filled_and_does_not_fold(metho
     data = read(obj)
     polys = np.arange(len(obj.data.polygons))
     assert summary["islands"] == 1 and summary["faces"] == 32
+    # Solved as it is first, the tube folds; filled, it does not, so the filled map is kept.
+    assert summary["filled_islands"] == 1 and summary["repaired_islands"] == 0, summary
+    assert (summary["flipped"], summary["overlaps"]) == (0, 0)
     assert_no_flips(data, [polys])
     assert covered_more_than_once(data, polys) == 0.0
+
+
+def test_holes_are_filled_only_where_the_map_folds_without():
+    # A grid with one inner face left out: an island with a hole whose natural conformal map
+    # does not fold, so it is kept as it is, the same map as the library's on the island.
+    n = 6
+    obj = grid(n)
+    hole = (n // 2) * n + n // 2
+    edit([obj], lambda o: np.arange(len(o.data.polygons)) != hole)
+    summary = run()
+    assert summary["islands"] == 1 and summary["filled_islands"] == 0 and summary["repaired_islands"] == 0, summary
+    assert (summary["flipped"], summary["overlaps"]) == (0, 0)
 
 
 def test_without_fill_holes_the_folded_map_of_a_tube_is_repaired():
@@ -800,6 +815,7 @@ def test_without_fill_holes_the_folded_map_of_a_tube_is_repaired():
     data = read(obj)
     polys = np.arange(len(obj.data.polygons))
     assert summary["repaired_islands"] == 1 and summary["folded_islands"] == 0, summary
+    assert summary["filled_islands"] == 0 and (summary["flipped"], summary["overlaps"]) == (0, 0)
     assert_no_flips(data, [polys])
     assert covered_more_than_once(data, polys) == 0.0
 
@@ -815,6 +831,7 @@ def test_a_folding_method_is_repaired_and_the_status_says_so():
     data = read(obj)
     polys = np.arange(len(obj.data.polygons))
     assert summary["repaired_islands"] == 1 and summary["folded_islands"] == 0, summary
+    assert (summary["flipped"], summary["overlaps"]) == (0, 0)
     assert_no_flips(data, [polys])
     assert covered_more_than_once(data, polys, samples=60) == 0.0
 
@@ -878,6 +895,69 @@ def test_vertices_snapped_together_do_not_stop_their_island():
     assert (data["uv"] != before).any(axis=1).all()
     snapped = np.flatnonzero(np.isin(data["loop_vert"], [24, 25]))
     assert_no_flips(data, [np.arange(36)], exclude_loops=snapped)
+
+
+def test_a_snapped_vertex_that_only_a_zero_area_face_holds_is_welded_for_the_solve():
+    # The grid's corner vertex moved onto its neighbour, its quad split so that the corner is
+    # in the zero-area triangle only: leaving that triangle out would leave the vertex in no
+    # triangle; welded to its neighbour instead, the island is solved and both get one UV.
+    obj = object_from(
+        [(0, 0, 0), (1, 0, 0.1), (2, 0, 0), (0, 1, 0.2), (1, 1, 0.4), (2, 1, 0), (0, 2, 0), (1, 2, 0.1), (2, 2, 0)],
+        [(0, 1, 3), (1, 4, 3), (1, 2, 5, 4), (3, 4, 7, 6), (4, 5, 8, 7)],
+    )
+    obj.data.vertices[0].co = obj.data.vertices[1].co
+    edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
+    summary = run()
+    data = read(obj)
+    assert summary["islands"] == 1 and summary["faces"] == 5 and summary["warnings"] == [], summary
+    uv = data["uv"]
+    assert np.isfinite(uv).all()
+    corner = np.flatnonzero(data["loop_vert"] == 0)
+    neighbour = np.flatnonzero(data["loop_vert"] == 1)
+    assert np.abs(uv[corner] - uv[neighbour[0]]).max() < 1e-6
+    assert_no_flips(data, [np.arange(1, 5)])
+
+
+def test_a_refused_island_is_named_by_the_meshs_own_indices():
+    # A triangle whose corners are collinear and whose apex is in no other face: leaving it
+    # out would leave that vertex in no triangle, so the island is refused, and the message
+    # names the mesh's face 1 (the island's triangle 2, after the quad's two).
+    obj = object_from([(0, 0, 0), (1, 0, 0), (1, 1, 0.2), (0, 1, 0), (1, 2, 0.4)], [(0, 1, 2, 3), (2, 1, 4)])
+    edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
+    summary = run()
+    assert summary["skipped"]["invalid"] == 1 and summary["islands"] == 0, summary
+    message = " ".join(summary["warnings"])
+    assert "face 1 is degenerate" in message and "(mesh indices)" in message, message
+    assert "triangle 2" not in message
+
+
+def uv_discontinuous_edges(data, polys) -> np.ndarray:
+    """Mesh edges between two of `polys` whose two loops do not meet in the same UVs."""
+    loops = poly_loops(data, polys)
+    following = np.arange(1, len(data["loop_vert"]) + 1)
+    following[data["poly_start"] + data["poly_total"] - 1] = data["poly_start"]
+    edges = data["loop_edge"][loops]
+    order = np.argsort(edges, kind="stable")
+    paired = edges[order][1:] == edges[order][:-1]
+    i, j = loops[order[:-1][paired]], loops[order[1:][paired]]
+    uv = data["uv"]
+    apart = (np.abs(uv[i] - uv[following[j]]).max(1) > 1e-7) | (np.abs(uv[following[i]] - uv[j]).max(1) > 1e-7)
+    return np.unique(data["loop_edge"][i][apart])
+
+
+def test_seams_the_cut_makes_are_marked_in_the_mesh():
+    sphere, torus, _ = closed_and_genus_objects()
+    summary = run()
+    assert summary["cut_islands"] == 2 and summary["seams_marked"] > 0, summary
+    marked = 0
+    for obj in (sphere, torus):
+        data = read(obj)
+        seams = np.flatnonzero(get(obj.data.edges, "use_seam", bool))
+        polys = np.flatnonzero(np.arange(len(obj.data.polygons)) != (0 if obj is torus else -1))
+        # The marked seams are exactly where the UVs are cut (neither had seams before).
+        np.testing.assert_array_equal(seams, uv_discontinuous_edges(data, polys))
+        marked += len(seams)
+    assert marked == summary["seams_marked"]
 
 
 def test_pins_keep_their_place_in_an_aspect_corrected_layout():

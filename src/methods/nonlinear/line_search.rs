@@ -52,15 +52,23 @@ fn first_positive_root(a: f64, b: f64, c: f64) -> f64 {
 /// Largest `t` such that every triangle of `uv + s·d` keeps a positive signed area for all
 /// `s < t` (+∞ when no triangle ever degenerates along `d`).
 pub fn max_flip_free_step(tris: &[[u32; 3]], uv: &[[f64; 2]], d: &[[f64; 2]]) -> f64 {
+    max_step_above(tris, uv, d, None)
+}
+
+/// Largest `t` such that every triangle `i` of `uv + s·d` keeps its doubled signed area above
+/// `floor[i]` (≥ 0; 0 for every triangle without `floor`) for all `s < t`: the same quadratic
+/// as [`max_flip_free_step`] with its constant term lowered by the floor.
+pub fn max_step_above(tris: &[[u32; 3]], uv: &[[f64; 2]], d: &[[f64; 2]], floor: Option<&[f64]>) -> f64 {
     tris.par_iter()
+        .enumerate()
         .with_min_len(4096)
-        .map(|t| {
+        .map(|(index, t)| {
             let [i, j, k] = t.map(|v| v as usize);
             let e1 = [uv[j][0] - uv[i][0], uv[j][1] - uv[i][1]];
             let e2 = [uv[k][0] - uv[i][0], uv[k][1] - uv[i][1]];
             let f1 = [d[j][0] - d[i][0], d[j][1] - d[i][1]];
             let f2 = [d[k][0] - d[i][0], d[k][1] - d[i][1]];
-            let c = cross2(e1, e2);
+            let c = cross2(e1, e2) - floor.map_or(0.0, |f| f[index]);
             if !(c > 0.0) {
                 return 0.0;
             }
@@ -101,7 +109,21 @@ pub fn flip_free_armijo(
     slope: f64,
     energy: impl Fn(&[[f64; 2]]) -> f64,
 ) -> Option<Accepted> {
-    let t_max = max_flip_free_step(tris, x, d);
+    armijo_above(tris, x, d, None, e0, slope, energy)
+}
+
+/// [`flip_free_armijo`] whose steps also keep every triangle's doubled signed area above
+/// `floor` (see [`max_step_above`]).
+pub fn armijo_above(
+    tris: &[[u32; 3]],
+    x: &[[f64; 2]],
+    d: &[[f64; 2]],
+    floor: Option<&[f64]>,
+    e0: f64,
+    slope: f64,
+    energy: impl Fn(&[[f64; 2]]) -> f64,
+) -> Option<Accepted> {
+    let t_max = max_step_above(tris, x, d, floor);
     let mut t = (MAX_STEP_FRACTION * t_max).min(1.0);
     if !(t > 0.0) {
         return None;
@@ -135,6 +157,18 @@ mod tests {
         // A quadratic case: swapping two corners passes through zero area first at t = 1/2.
         let d = [[0.0, 0.0], [-1.0, 1.0], [1.0, -1.0]];
         assert!((max_flip_free_step(&tris, &uv, &d) - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_floor_stops_the_step_where_the_area_reaches_it() {
+        let tris = [[0, 1, 2]];
+        let uv = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+        // Doubled area 1 − 2t along d; a floor of 0.5 is reached at t = 1/4.
+        let d = [[0.0, 0.0], [0.0, 0.0], [0.0, -2.0]];
+        assert!((max_step_above(&tris, &uv, &d, Some(&[0.5])) - 0.25).abs() < 1e-15);
+        assert!((max_step_above(&tris, &uv, &d, Some(&[0.0])) - 0.5).abs() < 1e-15);
+        // Already at the floor: no step at all.
+        assert_eq!(max_step_above(&tris, &uv, &d, Some(&[1.0])), 0.0);
     }
 
     #[test]
