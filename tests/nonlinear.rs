@@ -253,14 +253,14 @@ fn arap_and_green_lagrange_keep_every_triangle_above_its_area_floor() {
             options.iterations = 100;
             let result = nonlinear_map(&mesh, &options).unwrap_or_else(|e| panic!("{file} {method:?}: {e}"));
             let (before, after) = (area_share_ratios(&mesh, &start), area_share_ratios(&mesh, &result.uv));
-            let worst = before
-                .iter()
-                .zip(&after)
-                .map(|(b, a)| a / (0.01f64).min(0.5 * b))
-                .fold(f64::INFINITY, f64::min);
+            let worst =
+                before.iter().zip(&after).map(|(b, a)| a / (0.01f64).min(0.5 * b)).fold(f64::INFINITY, f64::min);
             assert!(worst >= 1.0 - 1e-6, "{file} {method:?}: a triangle at {worst:.3e} of its floor");
             let smallest = after.iter().copied().fold(f64::INFINITY, f64::min);
-            println!("{file} {method:?}: smallest area share ratio {smallest:.2e}, L2 {:.3}", stretch(&mesh, &result.uv));
+            println!(
+                "{file} {method:?}: smallest area share ratio {smallest:.2e}, L2 {:.3}",
+                stretch(&mesh, &result.uv)
+            );
         }
     }
 }

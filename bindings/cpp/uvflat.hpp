@@ -562,7 +562,7 @@ enum class Nonlinear : std::uint32_t {
 struct NonlinearOptions {
     Nonlinear method = Nonlinear::slim;
     std::uint32_t iterations = 0;
-    /// SLIM only: keep the whole map bijective (a scaffold keeps the free boundary apart).
+    /// Keep the whole map bijective (a scaffold keeps the free boundary apart).
     bool bijective = false;
     std::function<bool(double)> progress;
 };

@@ -297,8 +297,8 @@ struct UnwrapArgs {
     /// unwrap's repair; default 100.
     #[arg(long)]
     iterations: Option<usize>,
-    /// slim: keep the whole map bijective (a scaffold around the free boundary, so the boundary
-    /// cannot run into itself), not only free of flipped triangles.
+    /// Non-linear methods: keep the whole map bijective (a scaffold around the free boundary, so
+    /// the boundary cannot run into itself), not only free of flipped triangles.
     #[arg(long)]
     bijective: bool,
     /// θ of the degener method (weight of area against angle distortion); default 3.
@@ -1432,8 +1432,10 @@ fn check_option_combination(args: &UnwrapArgs) -> Result<(), Failure> {
             "--iterations applies to the non-linear methods (slim, arap, mips, stretch, green-lagrange, degener) and boundary-optimized",
         ));
     }
-    if method != MethodName::Slim && args.bijective {
-        return Err(usage("--bijective applies to --method slim only"));
+    if !nonlinear && args.bijective {
+        return Err(usage(
+            "--bijective applies to the non-linear methods (slim, arap, mips, stretch, green-lagrange, degener)",
+        ));
     }
     if method != MethodName::Degener && args.theta.is_some() {
         return Err(usage("--theta applies to --method degener only"));

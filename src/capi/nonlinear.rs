@@ -40,8 +40,11 @@ pub struct UvfNonlinearOptions {
     pub progress: UvfProgressFn,
     /// Passed to `progress` unchanged.
     pub progress_user: *mut c_void,
-    /// Non-zero: keep the whole map bijective (SLIM only): a scaffold around the free boundary
-    /// (Jiang et al. 2017) keeps the boundary from running into itself (default 0).
+    /// Non-zero: keep the whole map bijective: a scaffold around the free boundary (Jiang et al.
+    /// 2017) keeps the boundary from running into itself (default 0). SLIM optimizes chart and
+    /// scaffold together (SCAF); the other methods keep their own search direction and the
+    /// scaffold bounds their steps, so their boundary stops where it meets itself (a higher
+    /// final energy than without the bound where it would have crossed).
     pub bijective: u32,
 }
 

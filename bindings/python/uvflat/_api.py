@@ -638,8 +638,10 @@ def nonlinear_map(
     (``uvf_nonlinear_map``): ``slim`` (symmetric Dirichlet, Rabinovich et al. 2017), ``arap``
     (Liu et al. 2008), ``mips`` (Hormann & Greiner 2000), ``stretch`` (Sander et al. 2001),
     ``green_lagrange`` (Maillot et al. 1993), ``degener`` (Degener et al. 2003, ``theta``).
-    ``bijective`` (``slim`` only): a scaffold around the free boundary keeps it from running
-    into itself, so the whole map is one-to-one (Jiang et al. 2017). ``arap`` and
+    ``bijective``: a scaffold around the free boundary keeps it from running into itself, so
+    the whole map is one-to-one (Jiang et al. 2017); ``slim`` optimizes map and scaffold
+    together, the other methods stop a step where the boundary meets itself (a higher final
+    energy where the boundary would have crossed). ``arap`` and
     ``green_lagrange`` keep every triangle at or above 1% of its share of the UV area (their
     energies alone would let a triangle be pressed flat).
 

@@ -88,7 +88,8 @@ pub struct NonlinearOptions {
     /// θ of Degener's energy (> 0; ignored by the other methods).
     pub theta: f64,
     /// Keep the whole map bijective, not only locally injective: the free boundary may not run
-    /// into itself ([`scaffold`], SCAF). SLIM only; the start must be bijective.
+    /// into itself ([`scaffold`]: SCAF for SLIM; for the other methods the scaffold bounds
+    /// their steps). The start must be bijective.
     pub bijective: bool,
 }
 
@@ -184,14 +185,10 @@ fn run_method(
     options: &NonlinearOptions,
     progress: &mut Progress,
 ) -> Result<Run> {
-    if options.bijective {
-        return match options.method {
-            NonlinearMethod::Slim => scaffold::minimize(problem, x0, options, progress),
-            other => Err(Error::InvalidArgument(format!(
-                "a bijective map is available for SLIM only, not {other:?} (run SLIM with bijective = true)"
-            ))),
-        };
+    if options.bijective && options.method == NonlinearMethod::Slim {
+        return scaffold::minimize(problem, x0, options, progress);
     }
+    // The other methods honour `bijective` in `descend` (the scaffold as a guard of the step).
     match options.method {
         NonlinearMethod::Slim => slim::minimize(problem, x0, options, progress),
         NonlinearMethod::Arap => arap::minimize(problem, x0, options, progress),
@@ -349,6 +346,10 @@ pub(crate) fn descend(
         return Err(Error::Numerical("the starting map has infinite energy (a degenerate triangle)".into()));
     }
     let floor = area_floor(problem, energy, &x0);
+    let edges = if options.bijective { scaffold::boundary_edges(tris) } else { Vec::new() };
+    if options.bijective && edges.is_empty() {
+        return Err(Error::InvalidArgument("a bijective map needs a boundary".into()));
+    }
     let mut run = Run { x: x0, energy: vec![e], iterations: 0, converged: false };
     for it in 0..options.iterations {
         progress.report(0.02 + 0.97 * it as f64 / options.iterations as f64)?;
@@ -358,9 +359,12 @@ pub(crate) fn descend(
                 break;
             };
             let slope = line_search::slope(&grad, &d);
-            accepted = line_search::armijo_above(tris, &run.x, &d, floor.as_deref(), e, slope, |x| {
-                energy::energy(energy, frames, tris, x)
-            });
+            let value = |x: &[[f64; 2]]| energy::energy(energy, frames, tris, x);
+            accepted = if options.bijective {
+                scaffold::guarded_step(tris, &edges, &run.x, &d, floor.as_deref(), e, slope, value)?
+            } else {
+                line_search::armijo_above(tris, &run.x, &d, floor.as_deref(), e, slope, value)
+            };
             if accepted.is_some() {
                 break;
             }

@@ -61,17 +61,17 @@ const FRAME_POINTS_PER_SIDE: usize = 5;
 const SCAFFOLD_SHARE: f64 = 0.01;
 
 /// The triangulated region between the chart's boundary and the frame.
-struct Scaffold {
+pub(super) struct Scaffold {
     /// Frame points, numbered `n..n + frame.len()` after the chart's vertices.
     frame: Vec<[f64; 2]>,
     /// Scaffold triangles (counter-clockwise), in that numbering.
-    tris: Vec<[u32; 3]>,
+    pub(super) tris: Vec<[u32; 3]>,
     /// Rest shapes, with `area` holding each triangle's weight and `total_area` = 1.
     frames: RestFrames,
 }
 
 /// Directed boundary edges `a → b` of the chart (the chart on their left).
-fn boundary_edges(tris: &[[u32; 3]]) -> Vec<[u32; 2]> {
+pub(super) fn boundary_edges(tris: &[[u32; 3]]) -> Vec<[u32; 2]> {
     let mut directed: HashMap<(u32, u32), usize> = HashMap::with_capacity(3 * tris.len());
     for t in tris {
         for k in 0..3 {
@@ -112,7 +112,7 @@ fn frame_points(points: impl Iterator<Item = [f64; 2]>) -> Vec<[f64; 2]> {
 impl Scaffold {
     /// The scaffold of the map `x` (chart vertices `0..n`) with boundary edges `edges`, and
     /// the chart energy `chart_energy` setting the weights.
-    fn build(x: &[[f64; 2]], edges: &[[u32; 2]], chart_energy: f64) -> Result<Scaffold> {
+    pub(super) fn build(x: &[[f64; 2]], edges: &[[u32; 2]], chart_energy: f64) -> Result<Scaffold> {
         let n = x.len() as u32;
         let mut boundary: Vec<u32> = edges.iter().flatten().copied().collect();
         boundary.sort_unstable();
@@ -160,7 +160,7 @@ impl Scaffold {
     }
 
     /// The chart's map followed by the frame points.
-    fn extend(&self, x: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    pub(super) fn extend(&self, x: &[[f64; 2]]) -> Vec<[f64; 2]> {
         let mut all = x.to_vec();
         all.extend(&self.frame);
         all
@@ -406,6 +406,42 @@ pub(crate) fn minimize(
         }
     }
     Ok(run)
+}
+
+/// The bijective guard of the other methods (ARAP, MIPS, stretch, Green–Lagrange, Degener):
+/// their own search direction, with the step bounded by the first collapse of any triangle of
+/// the chart *or of the scaffold* around it (rebuilt for the current map at every step, the
+/// frame fixed). A boundary vertex cannot reach another part of the boundary without
+/// collapsing a scaffold triangle first, so, as for SCAF, every iterate stays bijective; unlike
+/// SCAF's SLIM, the direction does not see the scaffold (these methods have no proxy that can
+/// include its energy), so a boundary that runs against itself stops the step there instead of
+/// being pushed away. Returns the step, or `None` when no step lowers `energy`.
+pub(super) fn guarded_step(
+    tris: &[[u32; 3]],
+    edges: &[[u32; 2]],
+    x: &[[f64; 2]],
+    d: &[[f64; 2]],
+    floor: Option<&[f64]>,
+    e0: f64,
+    slope: f64,
+    energy: impl Fn(&[[f64; 2]]) -> f64,
+) -> Result<Option<line_search::Accepted>> {
+    let n = x.len();
+    let scaffold = Scaffold::build(x, edges, e0)?;
+    let all = scaffold.extend(x);
+    let union: Vec<[u32; 3]> = tris.iter().chain(&scaffold.tris).copied().collect();
+    let mut d_all = d.to_vec();
+    d_all.resize(all.len(), [0.0; 2]);
+    let floor_all: Option<Vec<f64>> = floor.map(|f| {
+        let mut v = f.to_vec();
+        v.resize(union.len(), 0.0);
+        v
+    });
+    let step = line_search::armijo_above(&union, &all, &d_all, floor_all.as_deref(), e0, slope, |y| energy(&y[..n]));
+    Ok(step.map(|mut s| {
+        s.uv.truncate(n);
+        s
+    }))
 }
 
 #[cfg(test)]
