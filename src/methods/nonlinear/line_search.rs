@@ -109,20 +109,27 @@ pub fn flip_free_armijo(
     slope: f64,
     energy: impl Fn(&[[f64; 2]]) -> f64,
 ) -> Option<Accepted> {
-    armijo_above(tris, x, d, None, e0, slope, energy)
+    armijo_above(tris, &Search { x, d, e0, slope }, None, energy)
+}
+
+/// Where a line search starts: the map `x`, the direction `d`, the energy `e0` at `x` and the
+/// directional derivative `slope` (negative for a descent direction).
+pub struct Search<'a> {
+    pub x: &'a [[f64; 2]],
+    pub d: &'a [[f64; 2]],
+    pub e0: f64,
+    pub slope: f64,
 }
 
 /// [`flip_free_armijo`] whose steps also keep every triangle's doubled signed area above
 /// `floor` (see [`max_step_above`]).
 pub fn armijo_above(
     tris: &[[u32; 3]],
-    x: &[[f64; 2]],
-    d: &[[f64; 2]],
+    search: &Search,
     floor: Option<&[f64]>,
-    e0: f64,
-    slope: f64,
     energy: impl Fn(&[[f64; 2]]) -> f64,
 ) -> Option<Accepted> {
+    let &Search { x, d, e0, slope } = search;
     let t_max = max_step_above(tris, x, d, floor);
     let mut t = (MAX_STEP_FRACTION * t_max).min(1.0);
     if !(t > 0.0) {

@@ -360,10 +360,11 @@ pub(crate) fn descend(
             };
             let slope = line_search::slope(&grad, &d);
             let value = |x: &[[f64; 2]]| energy::energy(energy, frames, tris, x);
+            let search = line_search::Search { x: &run.x, d: &d, e0: e, slope };
             accepted = if options.bijective {
-                scaffold::guarded_step(tris, &edges, &run.x, &d, floor.as_deref(), e, slope, value)?
+                scaffold::guarded_step(tris, &edges, &search, floor.as_deref(), value)?
             } else {
-                line_search::armijo_above(tris, &run.x, &d, floor.as_deref(), e, slope, value)
+                line_search::armijo_above(tris, &search, floor.as_deref(), value)
             };
             if accepted.is_some() {
                 break;

@@ -419,15 +419,13 @@ pub(crate) fn minimize(
 pub(super) fn guarded_step(
     tris: &[[u32; 3]],
     edges: &[[u32; 2]],
-    x: &[[f64; 2]],
-    d: &[[f64; 2]],
+    search: &line_search::Search,
     floor: Option<&[f64]>,
-    e0: f64,
-    slope: f64,
     energy: impl Fn(&[[f64; 2]]) -> f64,
 ) -> Result<Option<line_search::Accepted>> {
+    let (x, d) = (search.x, search.d);
     let n = x.len();
-    let scaffold = Scaffold::build(x, edges, e0)?;
+    let scaffold = Scaffold::build(x, edges, search.e0)?;
     let all = scaffold.extend(x);
     let union: Vec<[u32; 3]> = tris.iter().chain(&scaffold.tris).copied().collect();
     let mut d_all = d.to_vec();
@@ -437,7 +435,8 @@ pub(super) fn guarded_step(
         v.resize(union.len(), 0.0);
         v
     });
-    let step = line_search::armijo_above(&union, &all, &d_all, floor_all.as_deref(), e0, slope, |y| energy(&y[..n]));
+    let on_union = line_search::Search { x: &all, d: &d_all, e0: search.e0, slope: search.slope };
+    let step = line_search::armijo_above(&union, &on_union, floor_all.as_deref(), |y| energy(&y[..n]));
     Ok(step.map(|mut s| {
         s.uv.truncate(n);
         s
