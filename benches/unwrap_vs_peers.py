@@ -25,10 +25,12 @@ only the UVs and is blind to which tool made them):
   - angle°: mean |UV corner angle − 3D corner angle| in degrees;
   - s: wall seconds of the call (median of --repeats runs), the mesh already in memory.
 
-Table 2, on the disk_* meshes: `uvflat.nonlinear_map(V, F, "slim")` against the same with
-`bijective=True`: boundary crossings (the exact checker), L2, seconds (median).
+Table 2, on the disk_* meshes, for each method of --bijective-methods (default slim):
+`uvflat.nonlinear_map(V, F, method)` against the same with `bijective=True`: boundary
+crossings (the exact checker), L2, final energy, seconds (median).
 
-Usage: benches/unwrap_vs_peers.sh [--repeats N] [--skip-blender] [--skip-bijective] [--tight S] [name-filter ...]
+Usage: benches/unwrap_vs_peers.sh [--repeats N] [--skip-blender] [--skip-bijective] [--skip-peers]
+       [--tight S] [--bijective-methods m1,m2] [name-filter ...]
 """
 import argparse
 import os
@@ -214,22 +216,24 @@ def peers_table(mesh_dir, names, repeats, blender, tight):
               + ", ".join(f"{n} (fewer {fewer}, lower {lower})" for n, fewer, lower in rows if not (fewer and lower)))
 
 
-def bijective_table(mesh_dir, names, repeats):
-    print("| mesh | faces | SLIM crossings | bijective crossings | SLIM L2 | bijective L2 | SLIM s | bijective s | ratio |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+def bijective_table(mesh_dir, names, repeats, method="slim"):
+    print(f"{method}:\n")
+    print("| mesh | faces | plain crossings | bijective crossings | plain L2 | bijective L2 | plain energy | "
+          "bijective energy | plain s | bijective s | ratio |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     ratios = []
     for name in names:
         V, F = read_obj(os.path.join(mesh_dir, name))
         row = []
         for bijective in (False, True):
-            s, (uv, _) = timed(lambda: uvflat.nonlinear_map(V, F, "slim", bijective=bijective), repeats)
+            s, (uv, report) = timed(lambda: uvflat.nonlinear_map(V, F, method, bijective=bijective), repeats)
             check = uvflat.check_layout(uv, F)
             l2 = float(stretch_l2([V[F[:, k]] for k in range(3)], [uv[F[:, k]] for k in range(3)])[0])
-            row.append((check.overlaps, l2, s))
-        ratios.append(row[1][2] / row[0][2])
+            row.append((check.overlaps, l2, report.final_energy, s))
+        ratios.append(row[1][3] / row[0][3])
         print(f"| {name[:-4]} | {len(F)} | {row[0][0]} | {row[1][0]} | {row[0][1]:.4f} | {row[1][1]:.4f} | "
-              f"{row[0][2]:.2f} | {row[1][2]:.2f} | {ratios[-1]:.2f} |", flush=True)
-    print(f"\nmedian time ratio bijective / plain: {statistics.median(ratios):.2f}")
+              f"{row[0][2]:.5g} | {row[1][2]:.5g} | {row[0][3]:.2f} | {row[1][3]:.2f} | {ratios[-1]:.2f} |", flush=True)
+    print(f"\nmedian time ratio bijective / plain: {statistics.median(ratios):.2f}\n")
 
 
 def main():
@@ -239,6 +243,9 @@ def main():
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--skip-blender", action="store_true")
     parser.add_argument("--skip-bijective", action="store_true")
+    parser.add_argument("--skip-peers", action="store_true", help="only the bijective tables")
+    parser.add_argument("--bijective-methods", default="slim",
+                        help="comma-separated non-linear methods of the bijective tables (default: slim)")
     parser.add_argument("--tight", type=float, default=1.01,
                         help="also run uvflat.unwrap with this stretch bound (0: do not)")
     args = parser.parse_args()
@@ -248,10 +255,12 @@ def main():
         names = [n for n in names if any(f in n for f in args.filters)]
     print(f"uvflat {uvflat.version()}, xatlas (PyPI), load {os.getloadavg()}")
     print()
-    peers_table(args.meshes, names, args.repeats, not args.skip_blender, args.tight)
+    if not args.skip_peers:
+        peers_table(args.meshes, names, args.repeats, not args.skip_blender, args.tight)
     if not args.skip_bijective:
         print()
-        bijective_table(args.meshes, [n for n in names if n.startswith("disk_")], args.repeats)
+        for method in args.bijective_methods.split(","):
+            bijective_table(args.meshes, [n for n in names if n.startswith("disk_")], args.repeats, method)
 
 
 if __name__ == "__main__":
