@@ -80,6 +80,11 @@ class Split:
     islands: List[Island]
     #: Number of selected polygons.
     selected_polys: int
+    #: Edges of selected polygons used by more than two polygons (cut: non-manifold).
+    non_manifold_edges: int = 0
+    #: Edges between two selected polygons that traverse them in the same direction (cut: the
+    #: polygons' orientations disagree).
+    misoriented_edges: int = 0
 
 
 def split_islands(
@@ -121,6 +126,8 @@ def split_islands(
     shared = shared[np.argsort(loop_edge[shared], kind="stable")].reshape(-1, 2)
     l1, l2 = shared[:, 0], shared[:, 1]
     opposite = (loop_vert[l1] == loop_vert[loop_next[l2]]) & (loop_poly[l1] != loop_poly[l2])
+    non_manifold = int(((uses > 2) & (selected_uses > 0)).sum())
+    misoriented = int((~opposite & (loop_poly[l1] != loop_poly[l2])).sum())
     l1, l2 = l1[opposite], l2[opposite]
 
     # Loops around one vertex join across inner edges; polygons join across inner edges.
@@ -184,7 +191,12 @@ def split_islands(
                 triangle_diagonals=diagonals[tri],
             )
         )
-    return Split(islands=islands, selected_polys=len(selected_polys))
+    return Split(
+        islands=islands,
+        selected_polys=len(selected_polys),
+        non_manifold_edges=non_manifold,
+        misoriented_edges=misoriented,
+    )
 
 
 def _diagonals(tri_loops: np.ndarray, loop_next: np.ndarray) -> np.ndarray:

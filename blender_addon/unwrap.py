@@ -185,6 +185,8 @@ class UnwrapRun:
         self.loop_poly: List[np.ndarray] = []
         self.loop_next: List[np.ndarray] = []
         self.new_seams: List[List[np.ndarray]] = []
+        self.non_manifold_edges = 0
+        self.misoriented_edges = 0
         self.jobs: List[_Job] = []
         for k, obj in enumerate(objects):
             self._read(k, obj, correct_aspect)
@@ -251,6 +253,8 @@ class UnwrapRun:
         self.loop_next.append(following)
         self.new_seams.append([])
         self.jobs.extend(_Job.of(k, island, uv, pinned) for island in split.islands)
+        self.non_manifold_edges += split.non_manifold_edges
+        self.misoriented_edges += split.misoriented_edges
 
     # --- solve (any thread) ------------------------------------------------------------------
 
@@ -600,6 +604,11 @@ class UnwrapRun:
 
     def _warnings(self) -> List[str]:
         warnings = []
+        if self.non_manifold_edges or self.misoriented_edges:
+            warnings.append(
+                f"islands split at {self.non_manifold_edges} non-manifold edge(s) and {self.misoriented_edges} edge(s) "
+                "between faces of opposite orientation (Mesh > Clean Up, or Recalculate Normals, to join them)"
+            )
         if self.folded_islands:
             warnings.append(f"{self.folded_islands} island(s) still fold after the bijective repair (degenerate faces?)")
         if self.cut_islands:

@@ -960,6 +960,20 @@ def test_seams_the_cut_makes_are_marked_in_the_mesh():
     assert marked == summary["seams_marked"]
 
 
+def test_islands_split_at_non_manifold_and_misoriented_edges_say_so():
+    # Three quads on one edge (non-manifold) and a fourth quad whose orientation disagrees with
+    # its neighbour's: every one is its own island, and the warning says why.
+    obj = object_from(
+        [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (0, -1, 0), (1, -1, 0), (2, 0, 0), (2, 1, 0)],
+        [(0, 1, 2, 3), (1, 0, 4, 5), (0, 1, 7, 6), (1, 2, 9, 8)],
+    )
+    edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
+    summary = run()
+    assert summary["islands"] == 4, summary
+    message = " ".join(summary["warnings"])
+    assert "1 non-manifold edge(s) and 1 edge(s) between faces of opposite orientation" in message, message
+
+
 def test_pins_keep_their_place_in_an_aspect_corrected_layout():
     # Pins taken from Blender's own aspect-corrected unwrap of a flat grid (which every method
     # maps exactly): the island is solved in square space and put back into the image's
