@@ -1,4 +1,4 @@
-//! ABF++ (and ABF) convergence and quality on the disk meshes of the shared collection, as a
+//! ABF++ (and ABF) convergence and quality on the disk test meshes, as a
 //! Markdown table in the spirit of the course notes' Table 4.1: mesh, faces, method, iterations,
 //! seconds, final ‖∇L‖₂, flipped triangles after reconstruction, mean |3D angle − uv angle|, and
 //! the natural conformal map's time and angle distortion for comparison.
@@ -15,13 +15,13 @@
 //! Times: `TriMesh::new` plus the method (angle optimisation + reconstruction), one run each
 //! (OBJ loading not timed). Threads: as many as rayon gives (printed).
 
-use std::path::Path;
+#[path = "../tests/common/meshes.rs"]
+mod meshes;
+
 use std::time::Instant;
 use uvflat::methods::abf::{abf, AbfOptions, AbfVariant, AbfWeights};
 use uvflat::metrics::distortion;
 use uvflat::{natural_conformal_map, TriMesh};
-
-const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
 
 fn env_usize(name: &str, default: usize) -> usize {
     std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
@@ -31,25 +31,8 @@ fn env_usize(name: &str, default: usize) -> usize {
 fn disk_meshes(max_faces: usize) -> Vec<(usize, String)> {
     let only: Option<Vec<String>> =
         std::env::var("UVFLAT_BENCH_MESHES").ok().map(|s| s.split(',').map(str::to_string).collect());
-    let mut files: Vec<(usize, String)> = std::fs::read_dir(MESH_DIR)
-        .expect("mesh directory")
-        .filter_map(|e| {
-            let name = e.ok()?.file_name().into_string().ok()?;
-            if !(name.starts_with("disk_") && name.ends_with(".obj")) {
-                return None;
-            }
-            if let Some(only) = &only {
-                if !only.contains(&name) {
-                    return None;
-                }
-            }
-            let text = std::fs::read_to_string(Path::new(MESH_DIR).join(&name)).ok()?;
-            let faces = text.lines().filter(|l| l.starts_with("f ")).count();
-            (faces <= max_faces).then_some((faces, name))
-        })
-        .collect();
-    files.sort();
-    files
+    let keep = |name: &String| only.as_ref().is_none_or(|only| only.contains(name));
+    meshes::up_to("disk_", max_faces).into_iter().filter(|(_, name)| keep(name)).collect()
 }
 
 fn main() {
@@ -76,7 +59,7 @@ fn main() {
     println!("| mesh | faces | method | iterations | seconds | final ‖∇L‖ | flipped | invalid angles | angle error mean (°) | natural conformal: seconds | angle error mean (°) |");
     println!("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (faces, name) in disk_meshes(max_faces) {
-        let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(&name)).expect("read mesh");
+        let obj = meshes::read(&name);
         let tris: Vec<[u32; 3]> = obj.triangles.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         let points: Vec<[f64; 3]> = obj.positions.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         let start = Instant::now();

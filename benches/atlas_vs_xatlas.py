@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """uvflat `--atlas` and `--cut auto` against xatlas (PyPI `xatlas`) on every closed_* and holes_*
-mesh of ../shared/meshes, in one run; prints a Markdown table.
+test mesh (tests/data/meshes), in one run; prints a Markdown table.
 
 Run through benches/atlas_vs_xatlas.sh (creates target/xatlas-venv with xatlas and numpy, builds
 the release CLI). For every mesh and tool the same measurements are taken from the output UVs
@@ -29,7 +29,10 @@ import numpy as np
 import xatlas
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-MESHES = os.path.join(ROOT, "..", "shared", "meshes")
+sys.path.insert(0, os.path.join(ROOT, "tests", "data"))
+import meshes  # noqa: E402  (tests/data/meshes.py)
+
+MESHES = str(meshes.unpacked_dir())
 CLI = os.path.join(ROOT, "target", "release", "uvflat")
 
 

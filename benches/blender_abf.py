@@ -18,7 +18,7 @@ selected (its ABF, LSCM and island packing; margin 0); uvflat's is the whole bin
 Usage (a venv with `bpy==4.5.*` and numpy; Blender's wheels need CPython 3.11):
   cargo build --release
   python benches/blender_abf.py [--repeats N] [mesh.obj ...]
-  (default meshes: the shared disks with at least 16k faces; UVFLAT_LIBRARY may point at the
+  (default meshes: the disk test meshes with at least 16k faces; UVFLAT_LIBRARY may point at the
   library, default target/release/libuvflat.so)
 """
 import argparse
@@ -31,7 +31,10 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-MESH_DIR = os.path.join(ROOT, "..", "shared", "meshes")
+sys.path.insert(0, os.path.join(ROOT, "tests", "data"))
+import meshes  # noqa: E402  (tests/data/meshes.py)
+
+MESH_DIR = str(meshes.unpacked_dir())
 DEFAULT_MESHES = [
     "disk_lion_head.obj",
     "disk_camelhead.obj",

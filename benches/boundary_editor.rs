@@ -112,10 +112,10 @@ fn bench_mesh(path: &PathBuf, runs: usize) {
 fn main() {
     let paths: Vec<PathBuf> = std::env::args().skip(1).filter(|a| !a.starts_with('-')).map(PathBuf::from).collect();
     let paths = if paths.is_empty() {
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/");
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/meshes/");
         vec![
-            PathBuf::from(format!("{dir}disk_bimba_cut.obj")),
-            PathBuf::from(format!("{dir}disk_face_libigl_loop1.obj")),
+            PathBuf::from(format!("{dir}disk_bimba_cut.obj.gz")),
+            PathBuf::from(format!("{dir}disk_face_libigl_loop1.obj.gz")),
         ]
     } else {
         paths

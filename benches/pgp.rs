@@ -63,7 +63,7 @@ fn load(path: &PathBuf) -> TriMesh {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
     let meshes: Vec<PathBuf> = if args.is_empty() {
-        vec![PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/disk_face_libigl_loop1.obj"))]
+        vec![PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/meshes/disk_face_libigl_loop1.obj.gz"))]
     } else {
         args.iter().map(PathBuf::from).collect()
     };

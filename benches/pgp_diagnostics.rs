@@ -5,7 +5,7 @@
 //! share of the L2 stretch carried by the worst triangles, and the quality columns of the
 //! README table. It produced the figures of the README's "Why the rate is high" bullets.
 //!
-//!     cargo bench --bench pgp_diagnostics -- ../shared/meshes/closed_g0_cow.obj
+//!     cargo bench --bench pgp_diagnostics -- tests/data/meshes/closed_g0_cow.obj.gz
 //!
 //! Environment (all optional): CC=1 curl correction; RHO=r smoothing ρ (default 0.8);
 //! RINGS=k or RADIUS=f (× mean edge length) curvature neighbourhood; NOSMOOTH=1 no smoothing;

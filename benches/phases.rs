@@ -7,8 +7,8 @@
 //!
 //! Each phase calls the library's public steps in the order `natural_conformal_map` does, so
 //! their sum is close to the end-to-end time, which is measured separately. OBJ loading is not
-//! timed. The default mesh is `<target>/meshes/disk_bimba_cut_loop2.obj` (written by the
-//! `vs_cgal` bench, or by `gzip -dc` from the shared collection).
+//! timed. The default mesh is the optional 1.43M-face `disk_bimba_cut_loop2.obj.gz` from the
+//! folder `UVFLAT_LARGE_MESHES` names (`tests/data/meshes/README.md` says how to get it).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -117,15 +117,9 @@ fn fixed_boundary_total(mesh: &TriMesh, weights: Weights) -> Result<(), uvflat::
 }
 
 fn default_mesh() -> PathBuf {
-    let target = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target"));
-    let candidate = target.join("meshes/disk_bimba_cut_loop2.obj");
-    if candidate.exists() {
-        candidate
-    } else {
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/meshes/disk_bimba_cut_loop2.obj")
-    }
+    let folder = std::env::var_os("UVFLAT_LARGE_MESHES")
+        .expect("give a mesh, or set UVFLAT_LARGE_MESHES to the folder holding disk_bimba_cut_loop2.obj.gz");
+    PathBuf::from(folder).join("disk_bimba_cut_loop2.obj.gz")
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

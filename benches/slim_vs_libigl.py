@@ -23,7 +23,10 @@ import numpy as np
 import igl
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-MESH_DIR = os.path.join(HERE, "..", "..", "shared", "meshes")
+sys.path.insert(0, os.path.join(HERE, "..", "tests", "data"))
+import meshes  # noqa: E402  (tests/data/meshes.py)
+
+MESH_DIR = str(meshes.unpacked_dir())
 LIBIGL_ITERS = 20
 DEFAULT_MESHES = ["disk_lion_head.obj", "disk_camelhead.obj", "disk_cowhead.obj", "disk_face_libigl.obj", "disk_bimba_cut.obj"]
 

@@ -43,9 +43,11 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(ROOT, "bindings", "python"))
+sys.path.insert(0, os.path.join(ROOT, "tests", "data"))
 os.environ.setdefault("UVFLAT_LIBRARY", os.path.join(ROOT, "target", "release", "libuvflat.so"))
 import uvflat  # noqa: E402
 import xatlas  # noqa: E402
+import meshes  # noqa: E402  (tests/data/meshes.py)
 
 
 def read_obj(path):
@@ -239,7 +241,8 @@ def bijective_table(mesh_dir, names, repeats, method="slim"):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("filters", nargs="*")
-    parser.add_argument("--meshes", default=os.environ.get("UVFLAT_MESHES", os.path.join(ROOT, "tests", "data")))
+    parser.add_argument("--meshes", default=os.environ.get("UVFLAT_MESHES"),
+                        help="a folder of plain OBJ meshes (default: the test meshes, unpacked)")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--skip-blender", action="store_true")
     parser.add_argument("--skip-bijective", action="store_true")
@@ -249,6 +252,7 @@ def main():
     parser.add_argument("--tight", type=float, default=1.01,
                         help="also run uvflat.unwrap with this stretch bound (0: do not)")
     args = parser.parse_args()
+    args.meshes = args.meshes or str(meshes.unpacked_dir())
     names = sorted(n for n in os.listdir(args.meshes) if n.endswith(".obj") and n.startswith(("disk_", "holes_", "closed_"))
                    and "_loop" not in n)
     if args.filters:

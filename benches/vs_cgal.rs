@@ -1,5 +1,5 @@
-//! uvflat against CGAL 5.5's Surface_mesh_parameterization: time per method on every disk mesh
-//! of the shared collection, printed as a Markdown table.
+//! uvflat against CGAL 5.5's Surface_mesh_parameterization: time per method on every disk test
+//! mesh, printed as a Markdown table.
 //!
 //!     cargo bench --bench vs_cgal                              # all disk meshes, up to 1.43M faces
 //!     UVFLAT_BENCH_MAX_FACES=100000 cargo bench --bench vs_cgal
@@ -16,17 +16,20 @@
 //!   median of 3 runs, or 1 when the first takes more than 60 s.
 //!
 //! CGAL runs single-threaded; uvflat uses as many threads as rayon gives it (printed).
-//! `disk_bimba_cut_loop2.obj.gz` is unpacked once into `<target>/meshes/` with `gzip -dc`.
+//! The test meshes are decompressed once under `<target>/tmp/meshes/` for CGAL's reader; the
+//! 1.43M-face `disk_bimba_cut_loop2.obj.gz` is added when `UVFLAT_LARGE_MESHES` names the folder
+//! holding it.
 
 #[path = "../tests/common/cgal.rs"]
 mod cgal;
 #[path = "../tests/common/compiler.rs"]
 mod compiler;
+#[path = "../tests/common/meshes.rs"]
+mod meshes;
 
 use cgal::{DiskMesh, Method};
 use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 use std::time::Instant;
 use uvflat::{
     fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, FixedBoundaryOptions, TriMesh, Weights,
@@ -35,39 +38,9 @@ use uvflat::{
 /// A run longer than this is not repeated.
 const REPEAT_LIMIT_SECONDS: f64 = 60.0;
 const RUNS: usize = 3;
-const COMPRESSED: &str = "disk_bimba_cut_loop2.obj.gz";
-
-/// Face count of `file` from the collection's MANIFEST.tsv (column `faces`).
-fn manifest_faces(file: &str) -> Option<usize> {
-    let manifest = std::fs::read_to_string(Path::new(cgal::MESH_DIR).join("MANIFEST.tsv")).ok()?;
-    let mut lines = manifest.lines();
-    let column = lines.next()?.split('\t').position(|c| c == "faces")?;
-    lines.map(|l| l.split('\t').collect::<Vec<_>>()).find(|c| c[0] == file)?.get(column)?.parse().ok()
-}
-
-/// Unpacks the compressed disk mesh into `<target>/meshes/` unless already there.
-fn unpacked_mesh(target: &Path) -> Result<PathBuf, String> {
-    let dir = target.join("meshes");
-    let out = dir.join(COMPRESSED.trim_end_matches(".gz"));
-    if out.exists() {
-        return Ok(out);
-    }
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let partial = out.with_extension(format!("obj.{}.partial", std::process::id()));
-    let file = std::fs::File::create(&partial).map_err(|e| format!("cannot create {}: {e}", partial.display()))?;
-    let status = Command::new("gzip")
-        .arg("-dc")
-        .arg(Path::new(cgal::MESH_DIR).join(COMPRESSED))
-        .stdout(file)
-        .status()
-        .map_err(|e| format!("cannot run gzip: {e}"))?;
-    if !status.success() {
-        let _ = std::fs::remove_file(&partial);
-        return Err(format!("gzip -dc {COMPRESSED} failed: {status}"));
-    }
-    std::fs::rename(&partial, &out).map_err(|e| format!("cannot move {} into place: {e}", partial.display()))?;
-    Ok(out)
-}
+/// The optional 1.43M-face mesh (`tests/data/meshes/README.md` says how to get it).
+const LARGE: &str = "disk_bimba_cut_loop2.obj.gz";
+const LARGE_FACES: usize = 1_427_440;
 
 /// Times `run` up to `RUNS` times (once if the first run exceeds the limit) and returns the
 /// median of the times it reports, or its first error.
@@ -171,15 +144,14 @@ fn main() {
     let exe = cgal::reference_executable().unwrap_or_else(|e| panic!("{e}"));
     eprintln!("CGAL reference program: {} ({:.1} s)", exe.display(), start.elapsed().as_secs_f64());
 
-    let mut meshes = cgal::disk_meshes(max_faces).unwrap_or_else(|e| panic!("cannot list {}: {e}", cgal::MESH_DIR));
-    if manifest_faces(COMPRESSED).map_or(true, |faces| faces <= max_faces) {
-        match unpacked_mesh(&compiler::target_dir()).and_then(|path| {
-            let faces = cgal::count_faces(&path).map_err(|e| e.to_string())?;
-            Ok(DiskMesh { name: "disk_bimba_cut_loop2".into(), path, faces })
-        }) {
-            Ok(disk) if disk.faces <= max_faces => meshes.push(disk),
-            Ok(_) => {}
-            Err(e) => eprintln!("skipping {COMPRESSED}: {e}"),
+    let mut meshes = cgal::disk_meshes(max_faces);
+    if LARGE_FACES <= max_faces {
+        match meshes::large(LARGE) {
+            Some(gz) => {
+                let path = meshes::unpack(&gz);
+                meshes.push(DiskMesh { name: "disk_bimba_cut_loop2".into(), path, faces: LARGE_FACES });
+            }
+            None => eprintln!("skipping {LARGE}: set UVFLAT_LARGE_MESHES to the folder holding it"),
         }
     }
 

@@ -352,7 +352,7 @@
  * Default Newton iteration limit of the smoothing. Far from convergence the penalty's Hessian
  * is indefinite near the field's singularities and the steps are damped ([`super::solver`]),
  * while the singularities settle within the first few iterations; beyond 8 iterations the field
- * hardly changes on the meshes of `../shared/meshes` (the periodic solve, not the smoothing,
+ * hardly changes on the meshes of `tests/data/meshes` (the periodic solve, not the smoothing,
  * is what the paper's 10⁻⁶ tolerance is for).
  */
 #define SMOOTHING_ITERATIONS 8
@@ -373,7 +373,7 @@
  * The paper uses 10⁻³ so that the penalty prevents "the norms of the U, V's from decreasing"
  * (§2.5) and singular points are where the norms vanish (its Fig. 5). With our F* (λ = cot/2,
  * dimensionless) that does not happen at 10⁻³ on any of the 15 closed meshes of
- * `../shared/meshes`: uniformly shrinking all unknowns by s changes F** by
+ * `tests/data/meshes`: uniformly shrinking all unknowns by s changes F** by
  * (s² − 1) F* + ε n (s² − 1)², so whenever F* / n > 2ε (a field whose curl is not negligible
  * at the scale of one edge times ω) the minimum has every norm near 0 — measured medians of
  * ‖U‖ 3·10⁻⁵ (man) to 3·10⁻³ (cow) — and ∇F** < 10⁻⁶ holds only because everything is tiny.
@@ -388,7 +388,7 @@
  * Default Newton iteration limit of the periodic solve: a safeguard, Newton normally stops
  * earlier at ‖∇F**‖ < 10⁻⁶ (the paper's criterion). At ε = [`PERIODIC_EPSILON`] the singular
  * points drift apart slowly after the first few iterations: with the damped steps (module
- * comment) the tolerance takes 3–78 iterations on the 15 closed meshes of `../shared/meshes`
+ * comment) the tolerance takes 3–78 iterations on the 15 closed meshes of `tests/data/meshes`
  * with and without curl correction, all but the mesh torus without it, which reaches the limit
  * (2026-12-06: bob 6, knight 11, cow 20, bunny 27, man 33, armadillo 49, kitten 69, nefertiti
  * 78 without curl correction; the paper needed ≤ 5 at its ε). Each iteration is one or two factorizations: on the 207k-face disk of

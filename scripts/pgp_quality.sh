@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # PGP quality and timing table (README, "Periodic Global Parameterization"): runs
-# `uvflat pgp --json` with and without --curl-correction on every closed mesh of ../shared/meshes
+# `uvflat pgp --json` with and without --curl-correction on every closed test mesh
 # (or the meshes given as arguments) under /usr/bin/time, and prints a Markdown table of singular
 # triangles, singular points, Σ indices, stretch, shear, alignment, Newton iterations (* where
 # ‖∇F**‖ < 1e-6 was reached) and CPU seconds (user +
 # system). Set UVFLAT to use another CLI binary (default target/release/uvflat, built here) and
 # UVFLAT_PGP_ARGS to pass more options to every run (e.g. "--newton-iterations 100").
-# Example: scripts/pgp_quality.sh ../shared/meshes/disk_face_libigl_loop1.obj  (206,848 faces)
+# Example: scripts/pgp_quality.sh "$(python3 tests/data/meshes.py)/disk_face_libigl_loop1.obj"  (206,848 faces)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -17,7 +17,7 @@ fi
 if [ "$#" -gt 0 ]; then
     meshes=("$@")
 else
-    meshes=(../shared/meshes/closed_*.obj)
+    meshes=("$(python3 tests/data/meshes.py)"/closed_*.obj)
 fi
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT

@@ -16,10 +16,11 @@ if [ "$#" -gt 0 ]; then
     meshes=("$@")
 else
     meshes=()
+    dir=$(python3 tests/data/meshes.py)
     for name in closed_g0_bunny closed_g0_cow closed_g0_decimated_knight closed_g0_man closed_g0_spot closed_g1_bob \
         closed_g1_knot closed_g1_torus closed_g2_eight closed_g3_triple_torus closed_g4_fertility holes_pig \
         holes_annulus disk_lilium disk_spothead closed_g1_kitten closed_g0_armadillo; do
-        meshes+=("../shared/meshes/$name.obj")
+        meshes+=("$dir/$name.obj")
     done
 fi
 out=$(mktemp -d)

@@ -18,7 +18,7 @@ field's angle across the edges around v, each reduced into (-pi/4, pi/4]) / 2 pi
 the angle defect; it is a multiple of 1/4 and the indices sum to 2 - 2g (checked, printed).
 
     python3 -m venv /tmp/v && /tmp/v/bin/pip install numpy scipy
-    /tmp/v/bin/python scripts/smoothest_cross_field.py ../shared/meshes/closed_*.obj
+    /tmp/v/bin/python scripts/smoothest_cross_field.py "$(python3 tests/data/meshes.py)"/closed_*.obj
 
 Prints per mesh: triangles, sum of quarter indices, singular vertices (+ / -) and their
 number as a percentage of the triangles.

@@ -18,11 +18,6 @@ if ((${#missing[@]})); then
     $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-if [ ! -d ../shared/meshes ]; then
-    echo "error: ../shared/meshes not found (the shared mesh collection must sit beside the repository)" >&2
-    exit 1
-fi
-
 # The `ci` profile (Cargo.toml) is the release profile without link-time optimisation and debug
 # info: the same optimised code for the tests' timings, a fraction of the build time (7 against
 # 31 minutes from a clean clone on the 2-core CI machine, each test binary being a thin-LTO link).

@@ -1,5 +1,5 @@
 //! ABF / ABF++ claims (Sheffer & de Sturler 2001; Sheffer et al. 2005; course notes §4.5, issue
-//! 4) on every disk mesh of `../shared/meshes` with at most 100k faces (the bench
+//! 4) on every disk mesh of `tests/data/meshes` with at most 100k faces (the bench
 //! `benches/abf.rs` prints the full table):
 //! - ABF++ reaches ‖∇L‖ ≤ 1e-6 in at most 10 iterations;
 //! - after reconstruction no triangle is flipped;
@@ -11,21 +11,19 @@
 //! the papers' own objective two meshes miss a claim (see the README's ABF++ section and the
 //! module comment of `methods::abf`), which the last tests document.
 
+#[path = "common/meshes.rs"]
+mod meshes;
 #[path = "common/surfaces.rs"]
 mod surfaces;
 
-use std::path::Path;
 use uvflat::error::Error;
 use uvflat::methods::abf::{abf, abf_with_progress, optimize_angles, AbfOptions, AbfVariant, AbfWeights};
 use uvflat::metrics::distortion;
 use uvflat::progress::Progress;
 use uvflat::{natural_conformal_map, TriMesh};
 
-const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
-
 fn load(file: &str) -> (TriMesh, Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-    let mesh = TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"));
+    let mesh = meshes::load(file);
     let points = mesh.points().to_vec();
     let tris = mesh.triangles().to_vec();
     (mesh, points, tris)

@@ -1,4 +1,4 @@
-//! Atlas mode on every closed and multi-hole mesh of `../shared/meshes` (`closed_*`, `holes_*`:
+//! Atlas mode on every closed and multi-hole mesh of `tests/data/meshes` (`closed_*`, `holes_*`:
 //! genus 0 to 133), and the default unwrap (`uvflat::unwrap`) on every manifold mesh there
 //! (`disk_*` as well):
 //! - zero flipped triangles: every UV triangle is counter-clockwise (the packer only rotates and
@@ -17,7 +17,6 @@
 //!
 //! Run with `--nocapture` for the per-mesh table.
 
-use std::path::Path;
 use std::time::Instant;
 
 use uvflat::atlas::{atlas, Atlas, AtlasOptions, ChartMethod};
@@ -27,26 +26,13 @@ use uvflat::unwrap::{unwrap, UnwrapOptions};
 use uvflat::verify::check_layout;
 use uvflat::TriMesh;
 
-const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+#[path = "common/meshes.rs"]
+mod meshes;
 
-fn load(file: &str) -> TriMesh {
-    let obj = read_obj(&Path::new(MESH_DIR).join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-    TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"))
-}
-
-/// Mesh files whose names start with one of `prefixes`, sorted.
-fn meshes(prefixes: &[&str]) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(MESH_DIR)
-        .expect("mesh dir")
-        .filter_map(|e| e.ok()?.file_name().into_string().ok())
-        .filter(|n| prefixes.iter().any(|p| n.starts_with(p)) && n.ends_with(".obj"))
-        .collect();
-    names.sort();
-    names
-}
+use meshes::{load, DIR as MESH_DIR};
 
 fn closed_and_holes() -> Vec<String> {
-    let names = meshes(&["closed_", "holes_"]);
+    let names = meshes::with_prefix(&["closed_", "holes_"]);
     assert!(names.len() >= 20, "expected the closed_* and holes_* meshes in {MESH_DIR}");
     names
 }
@@ -263,7 +249,7 @@ fn island_stretches(mesh: &TriMesh, atlas: &Atlas) -> Vec<f64> {
 /// per connected component and still no flip or overlap.
 #[test]
 fn the_default_unwrap_is_valid_on_every_manifold_mesh() {
-    let names: Vec<String> = meshes(&["disk_", "holes_", "closed_"])
+    let names: Vec<String> = meshes::with_prefix(&["disk_", "holes_", "closed_"])
         .into_iter()
         .filter(|n| !n.contains("_loop")) // the subdivided scaling meshes belong to the benches
         .collect();

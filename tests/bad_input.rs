@@ -19,7 +19,6 @@
 
 use std::ffi::CStr;
 use std::os::raw::{c_int, c_void};
-use std::path::Path;
 
 use uvflat::capi::errors::uvf_last_error_message;
 use uvflat::capi::mesh::{uvf_mesh_info, UvfMeshInfo};
@@ -30,7 +29,8 @@ use uvflat::capi::methods::{
 use uvflat::capi::metrics::{uvf_metrics, UvfMetrics};
 use uvflat::error::UvfStatus::{self, *};
 
-const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+#[path = "common/meshes.rs"]
+mod meshes;
 
 /// A NaN with a payload no computation produces: a double that still has these bits after a
 /// call was not written.
@@ -88,8 +88,7 @@ fn grid() -> Raw {
 }
 
 fn load(file: &str) -> Raw {
-    let path = Path::new(MESH_DIR).join(file);
-    let obj = uvflat::io::obj::read_obj(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let obj = meshes::read(file);
     Raw { positions: obj.positions, triangles: obj.triangles }
 }
 
@@ -1152,7 +1151,7 @@ fn progress_callback_can_cancel_and_reaches_one() {
     }
 }
 
-/// The defective meshes of the shared collection (`bad_*`, `realbad_*`) give `UVF_INVALID_MESH`
+/// The defective test meshes (`bad_*`, `realbad_*`) give `UVF_INVALID_MESH`
 /// with the expected defect named, and `bad_unreferenced_vertices.obj` is accepted.
 #[test]
 fn defective_mesh_files_are_rejected_with_the_defect_named() {

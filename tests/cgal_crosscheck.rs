@@ -34,6 +34,8 @@
 mod cgal;
 #[path = "common/compiler.rs"]
 mod compiler;
+#[path = "common/meshes.rs"]
+mod meshes;
 
 use cgal::{DiskMesh, Method, Reference};
 use std::path::Path;
@@ -326,8 +328,8 @@ fn compare_all() -> Option<Vec<Row>> {
         compile_start.elapsed().as_secs_f64()
     );
 
-    let mut meshes = cgal::disk_meshes(MAX_FACES).unwrap_or_else(|e| panic!("cannot list {}: {e}", cgal::MESH_DIR));
-    assert!(!meshes.is_empty(), "no disk_*.obj with at most {MAX_FACES} faces in {}", cgal::MESH_DIR);
+    let mut meshes = cgal::disk_meshes(MAX_FACES);
+    assert!(!meshes.is_empty(), "no disk_*.obj with at most {MAX_FACES} faces in {}", meshes::DIR);
     meshes.reverse(); // largest first, so the two threads finish together
 
     let run_start = Instant::now();

@@ -1,5 +1,5 @@
 //! Circle-pattern conformal map (Kharevych, Springborn & Schröder 2006; partial implementation,
-//! see the README) on the real disk meshes of `../shared/meshes` up to 10k faces, with and
+//! see the README) on the real disk meshes of `tests/data/meshes` up to 10k faces, with and
 //! without the intrinsic Delaunay flips: every circle closes and the report's flip count is
 //! the mesh's; with the flips (the paper's method) the map is as conformal as the natural
 //! conformal map; without them the pattern is laid out on the mesh's own triangles, so none
@@ -10,6 +10,8 @@
 mod cgal;
 #[path = "common/compiler.rs"]
 mod compiler;
+#[path = "common/meshes.rs"]
+mod meshes;
 
 use cgal::{disk_meshes, read_plain_obj};
 use uvflat::error::Error;
@@ -96,7 +98,7 @@ fn with_intrinsic_flips_the_map_is_as_conformal_as_the_natural_conformal_map() {
     // are the 3D ones, so the pattern is a discrete conformal map of the surface; its mean angle
     // distortion is then within 0.2° of the natural conformal map's (LSCM) or below it
     // (the Delaunay margin of the program, 0.01 rad, moves the angles of co-circular edges).
-    let meshes = disk_meshes(max_faces()).expect("read ../shared/meshes");
+    let meshes = disk_meshes(max_faces());
     assert!(meshes.len() >= 8, "disk meshes missing");
     print_header("with intrinsic Delaunay flips (default)");
     let rows: Vec<Row> = meshes.iter().filter_map(|d| map_and_check(d, true)).collect();
@@ -116,7 +118,7 @@ fn with_intrinsic_flips_the_map_is_as_conformal_as_the_natural_conformal_map() {
 
 #[test]
 fn without_intrinsic_flips_the_map_never_flips() {
-    let meshes = disk_meshes(max_faces()).expect("read ../shared/meshes");
+    let meshes = disk_meshes(max_faces());
     assert!(meshes.len() >= 8, "disk meshes missing");
     print_header("without intrinsic flips (Delaunay condition on the mesh's edges)");
     let rows: Vec<Row> = meshes.iter().filter_map(|d| map_and_check(d, false)).collect();
@@ -149,9 +151,7 @@ fn mannequin_devil_maps_on_its_intrinsic_delaunay_triangulation() {
 }
 
 fn named_disk(name: &str) -> cgal::DiskMesh {
-    let path = std::path::Path::new(cgal::MESH_DIR).join(format!("{name}.obj"));
-    let faces = cgal::count_faces(&path).expect("read mesh");
-    cgal::DiskMesh { name: name.into(), path, faces }
+    cgal::DiskMesh::named(name)
 }
 
 /// Turning angle of the uv boundary polygon at each vertex of `lp` (counter-clockwise loop).
@@ -173,7 +173,7 @@ fn four_corners_make_a_rectangle_with_straight_sides() {
     // exactly the prescribed angles at every boundary vertex.
     println!("| mesh | triangles | corners | max turning error | flipped | angle distortion ° (free boundary) | s |");
     println!("|---|--:|--:|--:|--:|--:|--:|");
-    let meshes = disk_meshes(max_faces()).expect("read ../shared/meshes");
+    let meshes = disk_meshes(max_faces());
     let mut mapped = 0;
     for disk in &meshes {
         let (positions, triangles) = read_plain_obj(&disk.path).expect("read obj");
@@ -239,7 +239,7 @@ fn a_convex_boundary_embeds_the_map_with_less_distortion_than_a_mean_value_map()
     // says so (radius span ≥ 12 decades), and those must be among the named ones.
     println!("| mesh | triangles | radius span (decades) free / convex | most negative turning | flipped | boundary crossings free / convex | angle distortion ° free / convex / mean value on a circle | s |");
     println!("|---|--:|--:|--:|--:|--:|--:|--:|");
-    let meshes = disk_meshes(max_faces()).expect("read ../shared/meshes");
+    let meshes = disk_meshes(max_faces());
     assert!(meshes.len() >= 8, "disk meshes missing");
     let mut embedded = 0;
     for disk in &meshes {
@@ -387,7 +387,7 @@ fn cone_maps_of_closed_meshes_have_congruent_seams_and_the_prescribed_cone_angle
         ("closed_g3_triple_torus", 4, -2.0 * PI),
     ];
     for (name, cone_count, curvature) in cases {
-        let path = std::path::Path::new(cgal::MESH_DIR).join(format!("{name}.obj"));
+        let path = meshes::unpacked(&format!("{name}.obj"));
         let (positions, triangles) = read_plain_obj(&path).expect("read mesh");
         let mesh = TriMesh::new(&positions, &triangles).expect("valid mesh");
         let cones: Vec<(u32, f64)> =
@@ -432,15 +432,9 @@ fn automatic_cones_flatten_closed_meshes_with_little_area_distortion() {
     use std::f64::consts::PI;
     println!("| mesh | triangles | genus | cones | max log scale | radius span | area |log| mean / max | angle distortion ° | flipped | boundary crossings | s ; 8 cones: area |log| mean greedy / farthest |");
     println!("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|");
-    let mut names: Vec<String> = std::fs::read_dir(cgal::MESH_DIR)
-        .expect("meshes")
-        .filter_map(|e| e.ok()?.file_name().into_string().ok())
-        .filter(|n| n.starts_with("closed_") && n.ends_with(".obj"))
-        .collect();
-    names.sort();
     let mut tested = 0;
-    for file in names {
-        let path = std::path::Path::new(cgal::MESH_DIR).join(&file);
+    for file in meshes::with_prefix(&["closed_"]) {
+        let path = meshes::unpacked(&file);
         let (positions, triangles) = read_plain_obj(&path).expect("read mesh");
         let mesh = TriMesh::new(&positions, &triangles).expect("valid mesh");
         if mesh.triangle_count() > max_faces().max(25_000) {
@@ -520,13 +514,9 @@ fn holes_are_filled_so_that_each_hole_turns_once_the_other_way() {
     println!("| mesh | triangles | loops | worst loop turning error | flipped | angle distortion ° (natural conformal; its flips) |");
     println!("|---|--:|--:|--:|--:|--:|");
     let mut tested = 0;
-    for entry in std::fs::read_dir(cgal::MESH_DIR).expect("meshes") {
-        let path = entry.unwrap().path();
-        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
-        if !name.starts_with("holes_") || path.extension().is_none_or(|e| e != "obj") {
-            continue;
-        }
-        let (positions, triangles) = read_plain_obj(&path).expect("read obj");
+    for file in meshes::with_prefix(&["holes_"]) {
+        let name = file.trim_end_matches(".obj").to_string();
+        let (positions, triangles) = read_plain_obj(&meshes::unpacked(&file)).expect("read obj");
         let mesh = TriMesh::new(&positions, &triangles).expect("valid mesh");
         let topology = mesh.topology();
         if topology.genus != 0 || topology.components != 1 || mesh.triangle_count() > max_faces().max(20_000) {

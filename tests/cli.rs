@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 const SAMPLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/nefertiti.obj");
-const MESHES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+const MESHES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/meshes");
 
 fn uvflat(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_uvflat")).args(args).output().expect("run uvflat")
@@ -210,7 +210,7 @@ fn pins_are_placed_where_documented() {
 
 #[test]
 fn info_reports_topology() {
-    let t = json(&uvflat(&["info", &format!("{MESHES}/holes_lion.obj"), "--json"]));
+    let t = json(&uvflat(&["info", &format!("{MESHES}/holes_lion.obj.gz"), "--json"]));
     assert_eq!((t["vertices"].as_u64(), t["faces"].as_u64()), (Some(7529), Some(14859)));
     assert_eq!(
         (t["components"].as_u64(), t["boundary_loops"].as_u64(), t["genus"].as_u64()),
@@ -231,7 +231,7 @@ fn bad_meshes_print_the_library_message_and_exit_1() {
         ("bad_empty_no_faces.obj", "no triangles"),
     ];
     for (file, expected) in cases {
-        let o = uvflat(&["unwrap", &format!("{MESHES}/{file}"), "-o", scratch("bad.obj").to_str().unwrap()]);
+        let o = uvflat(&["unwrap", &format!("{MESHES}/{file}.gz"), "-o", scratch("bad.obj").to_str().unwrap()]);
         assert_eq!(o.status.code(), Some(1), "{file}: {}", stderr(&o));
         assert!(stderr(&o).contains(expected), "{file}: {}", stderr(&o));
         assert!(!stderr(&o).contains("panicked"), "{file}");
@@ -301,7 +301,7 @@ fn circle_patterns_flip_to_intrinsic_delaunay_unless_told_not_to() {
 #[test]
 fn circle_patterns_with_cones_write_per_corner_uvs() {
     // A torus needs no cone (χ = 0): a zero-curvature cone only asks for the cone map.
-    let torus = format!("{MESHES}/closed_g1_torus.obj");
+    let torus = format!("{MESHES}/closed_g1_torus.obj.gz");
     let out = scratch("torus_cones.obj");
     let o = uvflat(&[
         "unwrap",
@@ -323,7 +323,7 @@ fn circle_patterns_with_cones_write_per_corner_uvs() {
     // A sphere with one cone breaks Gauss–Bonnet: an input error, not a crash.
     let o = uvflat(&[
         "unwrap",
-        &format!("{MESHES}/closed_g0_bunny.obj"),
+        &format!("{MESHES}/closed_g0_bunny.obj.gz"),
         "-o",
         out.to_str().unwrap(),
         "--method",
@@ -334,7 +334,7 @@ fn circle_patterns_with_cones_write_per_corner_uvs() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("Gauss"), "{}", stderr(&o));
     // `--auto-cones`: placed where the flattening's scale is largest, reported in the JSON.
-    let bunny = format!("{MESHES}/closed_g0_bunny.obj");
+    let bunny = format!("{MESHES}/closed_g0_bunny.obj.gz");
     let o = uvflat(&[
         "unwrap",
         &bunny,
@@ -391,7 +391,7 @@ fn options_that_do_not_apply_are_usage_errors() {
 #[test]
 fn unwrap_cuts_closed_meshes_and_writes_per_corner_uvs() {
     let out = scratch("torus.obj");
-    let input = format!("{MESHES}/closed_g1_torus.obj");
+    let input = format!("{MESHES}/closed_g1_torus.obj.gz");
     let report = json(&uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--method", "mean-value", "--json"]));
     assert_eq!(report["flipped"], 0, "{report}");
     assert!(report["cut_edges"].as_u64().is_some_and(|e| e > 0), "{report}");
@@ -432,7 +432,7 @@ fn unwrap_cuts_closed_meshes_and_writes_per_corner_uvs() {
     assert_eq!(o.status.code(), Some(2));
     // The default method on a cut mesh is flip-free (split into charts only when needed).
     let report =
-        json(&uvflat(&["unwrap", &format!("{MESHES}/closed_g0_cow.obj"), "-o", out.to_str().unwrap(), "--json"]));
+        json(&uvflat(&["unwrap", &format!("{MESHES}/closed_g0_cow.obj.gz"), "-o", out.to_str().unwrap(), "--json"]));
     assert_eq!(report["flipped"], 0, "{report}");
     assert_eq!(report["mode"], "unwrap", "{report}");
 }
@@ -440,7 +440,7 @@ fn unwrap_cuts_closed_meshes_and_writes_per_corner_uvs() {
 #[test]
 fn the_default_unwrap_is_verified_and_a_folding_method_is_warned_about() {
     let out = scratch("peaks.obj");
-    let input = format!("{MESHES}/disk_three_peaks.obj");
+    let input = format!("{MESHES}/disk_three_peaks.obj.gz");
     // The natural conformal map flips 30 triangles here: the default repairs the island.
     let report = json(&uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--json"]));
     assert_eq!((report["method"].as_str(), report["mode"].as_str()), (Some("default"), Some("unwrap")), "{report}");
@@ -457,7 +457,7 @@ fn the_default_unwrap_is_verified_and_a_folding_method_is_warned_about() {
     // Without a stretch bound the island is never split.
     let o = uvflat(&[
         "unwrap",
-        &format!("{MESHES}/closed_g0_cow.obj"),
+        &format!("{MESHES}/closed_g0_cow.obj.gz"),
         "-o",
         out.to_str().unwrap(),
         "--max-stretch",
@@ -482,7 +482,7 @@ fn the_default_unwrap_is_verified_and_a_folding_method_is_warned_about() {
 #[test]
 fn sphere_writes_unit_sphere_vertices_without_flips() {
     let out = scratch("bunny_sphere.obj");
-    let input = format!("{MESHES}/closed_g0_bunny.obj");
+    let input = format!("{MESHES}/closed_g0_bunny.obj.gz");
     let report = json(&uvflat(&["sphere", &input, "-o", out.to_str().unwrap(), "--json"]));
     assert_eq!(report["flipped"], 0, "{report}");
     assert_eq!(report["method"], "tutte-gnomonic");
@@ -498,7 +498,7 @@ fn sphere_writes_unit_sphere_vertices_without_flips() {
     let report =
         json(&uvflat(&["sphere", &input, "-o", out.to_str().unwrap(), "--method", "circle-patterns", "--json"]));
     assert_eq!((report["flipped"].as_u64(), report["method"].as_str()), (Some(0), Some("circle-patterns")), "{report}");
-    let o = uvflat(&["sphere", &format!("{MESHES}/closed_g1_torus.obj"), "-o", out.to_str().unwrap()]);
+    let o = uvflat(&["sphere", &format!("{MESHES}/closed_g1_torus.obj.gz"), "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("genus"), "{}", stderr(&o));
 }
@@ -536,7 +536,7 @@ fn a_closed_stdout_is_not_a_panic() {
 #[test]
 fn pgp_writes_per_corner_phases_a_quad_mesh_and_its_figures() {
     let (out, quads) = (scratch("knight_pgp.obj"), scratch("knight_quads.obj"));
-    let mesh = format!("{MESHES}/closed_g0_decimated_knight.obj");
+    let mesh = format!("{MESHES}/closed_g0_decimated_knight.obj.gz");
     let o = uvflat(&["pgp", &mesh, "-o", out.to_str().unwrap(), "--quad-mesh", quads.to_str().unwrap(), "--json"]);
     let report = json(&o);
     assert_eq!(report["method"], "pgp");
@@ -559,7 +559,7 @@ fn pgp_writes_per_corner_phases_a_quad_mesh_and_its_figures() {
 #[test]
 fn quadcover_writes_per_corner_grid_coordinates_and_its_figures() {
     let (out, svg) = (scratch("torus_quadcover.obj"), scratch("torus_quadcover.svg"));
-    let mesh = format!("{MESHES}/closed_g1_torus.obj");
+    let mesh = format!("{MESHES}/closed_g1_torus.obj.gz");
     let o = uvflat(&["quadcover", &mesh, "-o", out.to_str().unwrap(), "--svg", svg.to_str().unwrap(), "--json"]);
     let report = json(&o);
     assert_eq!(report["method"], "quadcover");
@@ -591,7 +591,7 @@ fn quadcover_writes_per_corner_grid_coordinates_and_its_figures() {
     assert_eq!(bad.status.code(), Some(2), "{}", stderr(&bad));
     assert!(stderr(&bad).contains("density"), "{}", stderr(&bad));
     // bob folds after rounding; the untangling (default) opens every fold, --no-untangle keeps them.
-    let bob = format!("{MESHES}/closed_g1_bob.obj");
+    let bob = format!("{MESHES}/closed_g1_bob.obj.gz");
     let on = json(&uvflat(&["quadcover", &bob, "-o", out.to_str().unwrap(), "--json"]));
     let off = json(&uvflat(&["quadcover", &bob, "-o", out.to_str().unwrap(), "--json", "--no-untangle"]));
     assert!(off["flipped"].as_u64().unwrap() > 0 && off["untangled"]["groups"] == 0, "{off}");
@@ -605,7 +605,7 @@ fn outputs_that_cannot_all_be_written_are_refused_before_any_file_is() {
     let out = scratch("refused.obj");
     std::fs::remove_file(&out).ok();
     let missing_dir = scratch("no-such-dir").join("x.svg");
-    let bob = format!("{MESHES}/closed_g1_bob.obj");
+    let bob = format!("{MESHES}/closed_g1_bob.obj.gz");
     let cases: Vec<(Vec<String>, &str)> = vec![
         (vec!["unwrap".into(), SAMPLE.into(), "--svg".into(), out.display().to_string()], "name the same file"),
         (vec!["unwrap".into(), SAMPLE.into(), "--svg".into(), missing_dir.display().to_string()], "does not exist"),
@@ -681,7 +681,7 @@ fn negative_weights_parse_and_options_a_method_ignores_are_refused() {
         "1",
     ]);
     assert_ne!(o.status.code(), Some(2), "{}", stderr(&o));
-    let torus = format!("{MESHES}/closed_g0_bunny.obj");
+    let torus = format!("{MESHES}/closed_g0_bunny.obj.gz");
     let o = uvflat(&["sphere", &torus, "-o", out.to_str().unwrap(), "--method", "stereographic", "--sweeps", "5"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("--sweeps"), "{}", stderr(&o));

@@ -1,4 +1,4 @@
-//! Closed and higher-genus surfaces on the real meshes of `../shared/meshes` (every `closed_*`
+//! Closed and higher-genus surfaces on the real meshes of `tests/data/meshes` (every `closed_*`
 //! and `holes_*` file, genus 0 to 133):
 //! - cutting gives a disk (one component, one boundary loop, Euler characteristic 1), and
 //!   cut + flatten + unflatten gives back every input vertex exactly once per corner;
@@ -11,7 +11,6 @@
 //!
 //! Run with `--nocapture` for the per-mesh table (seam ratio, time, flips).
 
-use std::path::Path;
 use std::time::Instant;
 
 use uvflat::mesh::cut::{cut_to_disk, total_edge_length, EdgeCost};
@@ -19,21 +18,14 @@ use uvflat::methods::sphere::{spherical_map, SphereMethod, SphereOptions};
 use uvflat::metrics::distortion;
 use uvflat::{fixed_boundary_map, natural_conformal_map, FixedBoundaryOptions, TriMesh};
 
-const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+#[path = "common/meshes.rs"]
+mod meshes;
 
-fn load(file: &str) -> TriMesh {
-    let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-    TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"))
-}
+use meshes::load;
 
 fn files(prefix: &str) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(MESH_DIR)
-        .expect("mesh dir")
-        .filter_map(|e| e.ok()?.file_name().into_string().ok())
-        .filter(|n| n.starts_with(prefix) && n.ends_with(".obj"))
-        .collect();
-    names.sort();
-    assert!(!names.is_empty(), "no {prefix}*.obj in {MESH_DIR}");
+    let names = meshes::with_prefix(&[prefix]);
+    assert!(!names.is_empty(), "no {prefix}*.obj in {}", meshes::DIR);
     names
 }
 

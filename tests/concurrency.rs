@@ -1,8 +1,10 @@
 //! Every entry point is reentrant: 8 threads calling the C ABI at once on different meshes get
 //! bit-for-bit the results of single-threaded calls, and each thread sees its own error message.
 
+#[path = "common/meshes.rs"]
+mod meshes;
+
 use std::ffi::CStr;
-use std::path::Path;
 use uvflat::capi::errors::uvf_last_error_message;
 use uvflat::capi::methods::{uvf_fixed_boundary_map, uvf_natural_conformal_map};
 use uvflat::capi::metrics::{uvf_metrics, UvfMetrics};
@@ -11,8 +13,7 @@ use uvflat::error::UvfStatus;
 const MESHES: [&str; 4] = ["disk_cat_head", "disk_nefertiti_small", "disk_three_peaks", "disk_mushroom"];
 
 fn load(name: &str) -> (Vec<f64>, Vec<u32>) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../shared/meshes/{name}.obj"));
-    let obj = uvflat::io::obj::read_obj(&path).expect("read mesh");
+    let obj = meshes::read(&format!("{name}.obj"));
     (obj.positions, obj.triangles)
 }
 

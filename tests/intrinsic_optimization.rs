@@ -1,12 +1,11 @@
 //! Desbrun–Meyer–Alliez 2002 §5 (near-optimal λ, boundary optimization) and the spectral
-//! conformal map (Mullen et al. 2008), checked on the real disk meshes of `../shared/meshes`
+//! conformal map (Mullen et al. 2008), checked on the real disk meshes of `tests/data/meshes`
 //! against properties of the papers, with energies and eigen-residuals recomputed here from
 //! their definitions (not through the library's own evaluation code).
 
 // `!(x <= y)` is deliberate: a NaN must fail.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use std::path::Path;
 use uvflat::error::Error;
 use uvflat::methods::boundary_optimization::{
     boundary_optimized_map, boundary_optimized_map_observed, BoundaryOptimizationOptions,
@@ -19,29 +18,15 @@ use uvflat::metrics::distortion;
 use uvflat::progress::Progress;
 use uvflat::{fixed_boundary_map, natural_conformal_map, FixedBoundaryOptions, TriMesh, Weights};
 
-const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+#[path = "common/meshes.rs"]
+mod meshes;
 
-fn load(file: &str) -> TriMesh {
-    let path = Path::new(MESH_DIR).join(file);
-    let obj = uvflat::io::obj::read_obj(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"))
-}
+use meshes::load;
 
 /// The disk meshes of the manifest with at most `max_faces` faces, smallest first.
 fn disk_meshes(max_faces: usize) -> Vec<(String, TriMesh)> {
-    let manifest = std::fs::read_to_string(Path::new(MESH_DIR).join("MANIFEST.tsv")).expect("MANIFEST.tsv");
-    let mut files: Vec<(usize, String)> = manifest
-        .lines()
-        .skip(1)
-        .filter_map(|line| {
-            let f: Vec<&str> = line.split('\t').collect();
-            let faces: usize = f.get(4)?.parse().ok()?;
-            (f[0].starts_with("disk_") && f[0].ends_with(".obj") && faces <= max_faces)
-                .then(|| (faces, f[0].to_string()))
-        })
-        .collect();
-    files.sort();
-    assert!(files.len() >= 10, "expected the disk meshes of ../shared/meshes, found {files:?}");
+    let files = meshes::up_to("disk_", max_faces);
+    assert!(files.len() >= 10, "expected the disk meshes of {}, found {files:?}", meshes::DIR);
     files.into_iter().map(|(_, f)| (f.clone(), load(&f))).collect()
 }
 

@@ -1,11 +1,10 @@
 //! Desbrun–Meyer–Alliez 2002 §4–5 tools and the spectral conformal map, checked on real meshes
-//! (`../shared/meshes`): Lagrange point constraints (§4.1), the boundary editor and its
+//! (`tests/data/meshes`): Lagrange point constraints (§4.1), the boundary editor and its
 //! Green-function basis (§4.2).
 
 // `!(error <= tolerance)` is deliberate: a NaN error must fail.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use std::path::Path;
 use uvflat::error::Error;
 use uvflat::methods::conformal::{default_pins, natural_conformal_map, Pin};
 use uvflat::methods::constraints::{
@@ -14,13 +13,10 @@ use uvflat::methods::constraints::{
 use uvflat::progress::Progress;
 use uvflat::{fixed_boundary_map, BoundaryShape, Distribution, FixedBoundaryOptions, TriMesh, Weights};
 
-const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+#[path = "common/meshes.rs"]
+mod meshes;
 
-fn load(file: &str) -> TriMesh {
-    let path = Path::new(MESH_DIR).join(file);
-    let obj = uvflat::io::obj::read_obj(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"))
-}
+use meshes::load;
 
 /// A triangle none of whose vertices is on the boundary, near the middle of the triangle list.
 fn interior_triangle(mesh: &TriMesh) -> u32 {

@@ -2,7 +2,7 @@
 //!
 //! - Flip-free line search (Smith & Schaefer 2015): starting from a bijective map, SLIM, ARAP,
 //!   MIPS, stretch, Green–Lagrange and Degener return maps with zero flipped and zero degenerate
-//!   triangles on every disk mesh of `../shared/meshes` with at most 100k faces, and their
+//!   triangles on every disk mesh of `tests/data/meshes` with at most 100k faces, and their
 //!   energy never increases from one iteration to the next (and does decrease).
 //! - On a flat mesh the isometry is reachable, so SLIM reaches the symmetric Dirichlet minimum
 //!   4 and ARAP the ARAP minimum 0.
@@ -13,7 +13,6 @@
 //! energy, seconds. 15 iterations per method, 6 above 40k faces, to keep the test to a few
 //! minutes on two cores in `--release` (with 40 / 15 iterations it also passes, in 8 minutes).
 
-use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use uvflat::error::Error;
@@ -22,7 +21,11 @@ use uvflat::metrics::distortion;
 use uvflat::progress::Progress;
 use uvflat::TriMesh;
 
-const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+#[path = "common/meshes.rs"]
+mod meshes;
+
+use meshes::load;
+
 const MAX_FACES: usize = 100_000;
 
 const METHODS: [NonlinearMethod; 6] = [
@@ -34,30 +37,11 @@ const METHODS: [NonlinearMethod; 6] = [
     NonlinearMethod::Degener,
 ];
 
-fn face_count(path: &Path) -> usize {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    text.lines().filter(|l| l.starts_with("f ")).count()
-}
-
 /// `disk_*.obj` with at most `MAX_FACES` faces, smallest first.
 fn disk_meshes() -> Vec<(usize, String)> {
-    let mut files: Vec<(usize, String)> = std::fs::read_dir(MESH_DIR)
-        .unwrap_or_else(|e| panic!("cannot list {MESH_DIR}: {e}"))
-        .map(|e| e.expect("directory entry").path())
-        .filter_map(|p: PathBuf| {
-            let name = p.file_name()?.to_str()?.to_string();
-            (name.starts_with("disk_") && name.ends_with(".obj")).then(|| (face_count(&p), name))
-        })
-        .filter(|(faces, _)| *faces <= MAX_FACES)
-        .collect();
-    files.sort();
-    assert!(files.len() >= 10, "expected the disk meshes of {MESH_DIR}");
+    let files = meshes::up_to("disk_", MAX_FACES);
+    assert!(files.len() >= 10, "expected the disk meshes of {}", meshes::DIR);
     files
-}
-
-fn load(file: &str) -> TriMesh {
-    let obj = uvflat::io::obj::read_obj(&Path::new(MESH_DIR).join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
-    TriMesh::new(&obj.positions, &obj.triangles).unwrap_or_else(|e| panic!("{file}: {e}"))
 }
 
 /// Triangles whose UV signed area is not strictly positive (the input is counter-clockwise).

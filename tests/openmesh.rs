@@ -1,5 +1,5 @@
 //! C++ integration through OpenMesh (`tests/openmesh/roundtrip.cpp`, using the header-only
-//! wrapper `bindings/cpp/uvflat.hpp`): every mesh of `../shared/meshes` is read by OpenMesh,
+//! wrapper `bindings/cpp/uvflat.hpp`): every test mesh (`tests/data/meshes`, decompressed) is read by OpenMesh,
 //! unwrapped by uvflat, stored as OpenMesh texcoords, written and re-read; mean-value maps
 //! never flip; meshes that are not disks get `UVF_UNSUPPORTED_TOPOLOGY`. The wrapper's handle
 //! classes and newer functions (`tests/openmesh/wrappers.cpp`): PGP, its quad mesh, chart
@@ -10,6 +10,8 @@
 
 #[path = "common/compiler.rs"]
 mod compiler;
+#[path = "common/meshes.rs"]
+mod meshes;
 
 use std::path::{Path, PathBuf};
 
@@ -63,19 +65,13 @@ fn run(exe: &Path, args: &[PathBuf]) -> String {
 }
 
 #[test]
-fn openmesh_round_trip_of_every_shared_mesh() {
+fn openmesh_round_trip_of_every_test_mesh() {
     if !require_openmesh() {
         return;
     }
     let exe = build("roundtrip");
-    let mesh_dir = Path::new(ROOT).join("../shared/meshes");
-    let mut meshes: Vec<_> = std::fs::read_dir(&mesh_dir)
-        .expect("../shared/meshes")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
-        .collect();
-    meshes.sort();
-    assert!(meshes.len() >= 40, "expected the shared collection, found {} OBJ files", meshes.len());
+    let meshes: Vec<PathBuf> = meshes::names(|_| true).iter().map(|m| meshes::unpacked(m)).collect();
+    assert!(meshes.len() >= 40, "expected the test meshes, found {} OBJ files", meshes.len());
     let out_dir = compiler::target_dir().join("openmesh").join("out");
     std::fs::create_dir_all(&out_dir).expect("create output dir");
     let args: Vec<PathBuf> = std::iter::once(out_dir).chain(meshes).collect();
@@ -95,7 +91,8 @@ fn cpp_wrapper_handles_pgp_atlas_curvature_and_intrinsic_tools() {
         return;
     }
     let exe = build("wrappers");
-    let stdout = run(&exe, &[Path::new(ROOT).join("../shared/meshes")]);
+    let files = ["closed_g1_torus.obj", "closed_g2_eight.obj", "disk_nefertiti_small.obj"].map(meshes::unpacked);
+    let stdout = run(&exe, &[files[0].parent().expect("unpacked mesh dir").to_path_buf()]);
     assert!(stdout.contains("0 failure(s)") && !stdout.contains("FAIL"), "{stdout}");
     // Every check ran (each prints what it measured).
     for expected in [

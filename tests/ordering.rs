@@ -1,4 +1,4 @@
-//! Fill-reducing orders (`uvflat::linalg::ordering`) on a real mesh of `../shared/meshes`: both
+//! Fill-reducing orders (`uvflat::linalg::ordering`) on a real mesh of `tests/data/meshes`: both
 //! presets give permutations, and the thorough one (multilevel bisection at every level, used
 //! where one pattern is factored many times) gives a smaller Cholesky factor than the default's
 //! plane splits on a curved 207k-face scan, as measured when it was introduced (99M → 72M

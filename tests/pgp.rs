@@ -1,5 +1,5 @@
 //! Periodic Global Parameterization (Ray et al. 2006) checked against analytic surfaces and the
-//! real meshes of `../shared/meshes`:
+//! real meshes of `tests/data/meshes`:
 //! - principal curvatures (Cohen-Steiner–Morvan) of a cylinder, a sphere and a torus against
 //!   their closed forms;
 //! - field smoothing (§4.2): smooth, fitted where the surface is anisotropic, with the
@@ -562,7 +562,7 @@ fn remesh_row(file: &str, mesh: &TriMesh, r: &uvflat::methods::pgp::PgpResult) -
 #[test]
 fn curl_correction_gives_fewer_singular_triangles_within_the_papers_range_on_real_meshes() {
     // Ray et al. 2006 §6: singular triangles are "2 – 3% of the triangles", "particularly low
-    // when curl-correction is applied". Closed meshes of ../shared/meshes with 5k–25k regular
+    // when curl-correction is applied". Closed test meshes with 5k–25k regular
     // triangles (the coarse and sliver-ridden ones are reported in the README, not asserted).
     // The paper's own pipeline (one ω, Algorithm 1, no untangling): the claim is about it.
     for file in ["closed_g0_bunny.obj", "closed_g0_spot.obj", "closed_g1_knot.obj", "closed_g3_triple_torus.obj"] {

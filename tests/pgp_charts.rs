@@ -1,7 +1,7 @@
 //! Per-chart parameterization of PGP (Ray et al. 2006, §3.3–3.4): the surface cut along the
 //! iso-2kπ lines, charts without singularity assembled from the per-triangle (θ, φ), charts
 //! with singularities re-parameterized by mean-value coordinates. Checked on a parametric
-//! torus and on every closed mesh of `../shared/meshes`:
+//! torus and on every closed mesh of `tests/data/meshes`:
 //! - the cut triangulation covers the input surface exactly (same area, every triangle inside
 //!   its input triangle);
 //! - no chart folds: every (u, v) triangle of an assembled or re-parameterized chart is

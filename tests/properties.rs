@@ -1,4 +1,4 @@
-//! The papers' claims, checked on real meshes (`../shared/meshes`, see its MANIFEST.tsv).
+//! The papers' claims, checked on real meshes (`tests/data/meshes`, see its MANIFEST.tsv).
 //!
 //! - Linear precision (course notes §2.4): on a planar mesh, discrete harmonic (DCP), Floater,
 //!   mean value and Wachspress (DAP) weights reproduce the interior from the true boundary, and
@@ -14,15 +14,13 @@
 //! - The distortion measures (course notes §3.3, ch. 4) are exact on similarities.
 //!
 //! Meshes: every `disk_*.obj` and `holes_*.obj` with at most `MAX_FACES` faces. That leaves out
-//! `disk_face_libigl_loop1.obj` (207k faces) and the gzipped `disk_bimba_cut_loop2.obj.gz`
-//! (1.4M faces) to keep this file well under a minute on two cores; `disk_bimba_cut.obj` (89k)
-//! is included.
+//! `disk_face_libigl_loop1.obj` (207k faces) to keep this file well under a minute on two
+//! cores; `disk_bimba_cut.obj` (89k) is included.
 
 // `!(error <= tolerance)` is deliberate throughout: a NaN error must fail.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock};
 
 use uvflat::error::{Error, UvfStatus};
@@ -32,7 +30,11 @@ use uvflat::{
     fixed_boundary_map, natural_conformal_map, BoundaryShape, Distribution, FixedBoundaryOptions, TriMesh, Weights,
 };
 
-const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+#[path = "common/meshes.rs"]
+mod meshes;
+
+use meshes::DIR as MESH_DIR;
+
 const MAX_FACES: usize = 100_000;
 
 // ---------------------------------------------------------------------------------------------
@@ -72,31 +74,15 @@ fn load(file: &str) -> Arc<Mesh> {
     if let Some(m) = cache.lock().unwrap().get(file) {
         return Arc::clone(m);
     }
-    let path = Path::new(MESH_DIR).join(file);
-    let obj = uvflat::io::obj::read_obj(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let obj = meshes::read(file);
     let mesh = Arc::new(Mesh { name: file.to_string(), positions: obj.positions, triangles: obj.triangles });
     cache.lock().unwrap().insert(file.to_string(), Arc::clone(&mesh));
     mesh
 }
 
-fn face_count(path: &Path) -> usize {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    text.lines().filter(|l| l.starts_with("f ")).count()
-}
-
-/// `prefix*.obj` files with at most `MAX_FACES` faces, smallest first (the manifest lists sizes,
-/// but counting is cheap and cannot go stale).
+/// `prefix*.obj` files with at most `MAX_FACES` faces, smallest first.
 fn mesh_files(prefix: &str) -> Vec<String> {
-    let mut files: Vec<(usize, String)> = std::fs::read_dir(MESH_DIR)
-        .unwrap_or_else(|e| panic!("cannot list {MESH_DIR}: {e}"))
-        .map(|e| e.expect("directory entry").path())
-        .filter_map(|p: PathBuf| {
-            let name = p.file_name()?.to_str()?.to_string();
-            (name.starts_with(prefix) && name.ends_with(".obj")).then(|| (face_count(&p), name))
-        })
-        .filter(|(faces, _)| *faces <= MAX_FACES)
-        .collect();
-    files.sort();
+    let files = meshes::up_to(prefix, MAX_FACES);
     assert!(!files.is_empty(), "no {prefix}*.obj with at most {MAX_FACES} faces in {MESH_DIR}");
     files.into_iter().map(|(_, n)| n).collect()
 }

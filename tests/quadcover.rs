@@ -1,6 +1,6 @@
 //! QuadCover (Kälberer, Nieser & Polthier 2007; course notes ch. 8) checked against what a
 //! seamless, integer-gap parameterization must be, on analytic surfaces and the real meshes of
-//! `../shared/meshes`:
+//! `tests/data/meshes`:
 //! - across every interior edge the (u, v) of the two triangles differ by a grid automorphism
 //!   `J^r z + t` with t integer (§8.2.1 eq. 8.2, §8.3.1), measured directly on the output;
 //! - every cone sits at an integer point, and the cone indices sum to 2 − 2g (Hopf–Poincaré);

@@ -62,7 +62,7 @@ pub enum ChartMethod {
 pub struct AtlasOptions {
     /// Largest L2 stretch of a chart (≥ 1; `f64::INFINITY` splits only charts that flip or
     /// overlap themselves). The default, 1.004, is chosen by measurement
-    /// (`benches/atlas_vs_xatlas.sh`): on every closed and multi-hole mesh of `../shared/meshes`
+    /// (`benches/atlas_vs_xatlas.py`): on every closed and multi-hole mesh of `tests/data/meshes`
     /// it gives a lower L2 stretch than xatlas's default atlas with fewer charts, where 1.02 left
     /// two meshes a few thousandths above xatlas's stretch.
     pub max_stretch: f64,

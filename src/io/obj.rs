@@ -7,7 +7,9 @@
 //! corners), which is cut by ear clipping in its plane instead; indices may be negative
 //! (relative) and may refer to `v` lines further down. Only `v x y z`, `vt u [v]` and `f` are
 //! interpreted; `vn`, `l`, `p`, groups, materials and comments are skipped. Coordinates are read
-//! as f64 exactly as written (`nan`/`inf` included; validating them is the mesh's job).
+//! as f64 exactly as written (`nan`/`inf` included; validating them is the mesh's job). A
+//! gzip-compressed file (`.obj.gz`, recognised by its magic bytes, not its name) is read through
+//! `flate2`'s decoder.
 //!
 //! This is a small parser of its own rather than `tobj`: tobj (4.0) renumbers vertices in order of
 //! first use per model, drops unreferenced ones, duplicates vertices shared by two models and
@@ -65,8 +67,20 @@ pub fn read_obj_geometry(path: &Path) -> Result<ObjMesh, Error> {
 
 fn read(path: &Path, geometry_only: bool) -> Result<ObjMesh, Error> {
     let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
+    let bytes = gunzipped(bytes).map_err(|e| io_error(path, e))?;
     let text = String::from_utf8_lossy(&bytes);
     parse_obj_with(&text, geometry_only).map_err(|message| Error::Io { path: path.display().to_string(), message })
+}
+
+/// The file's bytes, decompressed when they start with the gzip magic number (RFC 1952 §2.3.1;
+/// every member of a multi-member file).
+fn gunzipped(bytes: Vec<u8>) -> std::io::Result<Vec<u8>> {
+    if !bytes.starts_with(&[0x1f, 0x8b]) {
+        return Ok(bytes);
+    }
+    let mut text = Vec::new();
+    std::io::Read::read_to_end(&mut flate2::read::MultiGzDecoder::new(bytes.as_slice()), &mut text)?;
+    Ok(text)
 }
 
 /// Writes a mesh with one uv per vertex: `v` lines, one `vt` per vertex, `f a/a b/b c/c`. A uv
@@ -471,11 +485,9 @@ mod tests {
         std::env::temp_dir().join(format!("uvflat-obj-test-{}-{name}", std::process::id()))
     }
 
-    /// A test mesh from `shared/meshes`, which sits beside the crate's repository.
-    fn shared_mesh(name: &str) -> PathBuf {
-        let beside = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes");
-        let dir = if beside.is_dir() { beside } else { PathBuf::from("/work/shared/meshes") };
-        dir.join(name)
+    /// A test mesh of the repository (`tests/data/meshes`, gzip-compressed).
+    fn test_mesh(name: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/meshes").join(format!("{name}.gz"))
     }
 
     #[test]
@@ -611,7 +623,7 @@ mod tests {
 
     #[test]
     fn shared_unreferenced_vertices_file_keeps_every_vertex() {
-        let mesh = read_obj(&shared_mesh("bad_unreferenced_vertices.obj")).unwrap();
+        let mesh = read_obj(&test_mesh("bad_unreferenced_vertices.obj")).unwrap();
         assert_eq!(mesh.vertex_count(), 86);
         assert_eq!(mesh.triangle_count(), 128);
         assert_eq!(&mesh.positions[..6], &[5.0, 5.0, 5.0, -3.0, 0.0, 1.0]);
@@ -619,15 +631,19 @@ mod tests {
 
     #[test]
     fn cat_head_has_131_vertices_and_248_triangles() {
-        let path = shared_mesh("disk_cat_head.obj");
+        let path = test_mesh("disk_cat_head.obj");
         let mesh = read_obj(&path).unwrap();
         assert_eq!(mesh.vertex_count(), 131);
         assert_eq!(mesh.triangle_count(), 248);
         assert!(mesh.uv.is_empty() && mesh.uv_triangles.is_empty());
         assert_eq!(&mesh.positions[..3], &[-0.008298, 0.583053, 0.070454]);
-        // Same triangles, corner for corner, as tobj reads them (tobj renumbers and uses f32).
+        // Same triangles, corner for corner, as tobj reads them (tobj renumbers and uses f32)
+        // from the text that flate2 decompresses.
+        let text = gunzipped(std::fs::read(&path).unwrap()).unwrap();
+        assert!(text.starts_with(b"#"), "the file is decompressed");
         let options = tobj::LoadOptions { triangulate: true, ..Default::default() };
-        let (models, _) = tobj::load_obj(&path, &options).unwrap();
+        let (models, _) =
+            tobj::load_obj_buf(&mut text.as_slice(), &options, |_| Err(tobj::LoadError::OpenFileFailed)).unwrap();
         let theirs: Vec<[f32; 3]> = models
             .iter()
             .flat_map(|m| {
@@ -675,7 +691,7 @@ mod tests {
                 Ok(mesh) => panic!("accepted {text:?} as {mesh:?}"),
             }
         }
-        match read_obj(&shared_mesh("bad_out_of_range_index.obj")) {
+        match read_obj(&test_mesh("bad_out_of_range_index.obj")) {
             Err(Error::Io { message, .. }) => assert!(message.starts_with("line "), "{message}"),
             other => panic!("{other:?}"),
         }
@@ -684,7 +700,7 @@ mod tests {
 
     #[test]
     fn non_finite_coordinates_are_read_as_written() {
-        let mesh = read_obj(&shared_mesh("bad_nan_coordinate.obj")).unwrap();
+        let mesh = read_obj(&test_mesh("bad_nan_coordinate.obj")).unwrap();
         assert!(mesh.positions.iter().any(|x| x.is_nan()));
         assert!(mesh.positions.iter().any(|x| x.is_infinite()));
     }

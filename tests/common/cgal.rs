@@ -1,8 +1,9 @@
 //! Shared by `tests/cgal_crosscheck.rs` and `benches/vs_cgal.rs` (included with `#[path]`):
 //! compiles `tests/cgal/cgal_reference.cpp` against the system CGAL and Eigen headers,
-//! runs it, and reads what it writes; lists the disk meshes in `../shared/meshes`.
+//! runs it, and reads what it writes; lists the disk test meshes.
 //!
-//! Needs `tests/common/compiler.rs` declared as the crate-level module `compiler`.
+//! Needs `tests/common/compiler.rs` and `tests/common/meshes.rs` declared as the crate-level
+//! modules `compiler` and `meshes`.
 //!
 //! The executable is cached under `<target>/cgal_reference/`, keyed by a hash of the
 //! source and the compile command, because CGAL's templates take ~20 s to compile.
@@ -12,11 +13,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use crate::compiler::{compiler, target_dir};
+use crate::meshes;
 
 /// The reference program's source, compiled into the test so the cache key follows it.
 pub const SOURCE: &str = include_str!("../cgal/cgal_reference.cpp");
 pub const SOURCE_PATH: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/cgal/cgal_reference.cpp");
-pub const MESH_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
 
 pub const EIGEN_INCLUDE: &str = "/usr/include/eigen3";
 /// Headers whose absence means CGAL or Eigen is not installed.
@@ -180,7 +181,7 @@ fn parse_reference(text: &str) -> Result<Reference, String> {
     Ok(Reference { seconds, pins, uv })
 }
 
-/// A disk mesh of the shared collection.
+/// A disk test mesh, decompressed for the reference program.
 #[derive(Debug, Clone)]
 pub struct DiskMesh {
     pub name: String,
@@ -188,29 +189,20 @@ pub struct DiskMesh {
     pub faces: usize,
 }
 
-/// Number of `f` lines of an OBJ file.
-pub fn count_faces(path: &Path) -> std::io::Result<usize> {
-    let text = std::fs::read_to_string(path)?;
-    Ok(text.lines().filter(|l| l.starts_with("f ")).count())
+impl DiskMesh {
+    /// Test mesh `name` (without `.obj`), decompressed.
+    pub fn named(name: &str) -> DiskMesh {
+        let file = format!("{name}.obj");
+        DiskMesh { name: name.into(), path: meshes::unpacked(&file), faces: meshes::faces(&file) }
+    }
 }
 
-/// The uncompressed `disk_*.obj` files of `MESH_DIR` with at most `max_faces` faces,
-/// smallest first.
-pub fn disk_meshes(max_faces: usize) -> std::io::Result<Vec<DiskMesh>> {
-    let mut meshes = Vec::new();
-    for entry in std::fs::read_dir(MESH_DIR)? {
-        let path = entry?.path();
-        let Some(file) = path.file_name().and_then(|f| f.to_str()) else { continue };
-        if !(file.starts_with("disk_") && file.ends_with(".obj")) {
-            continue;
-        }
-        let faces = count_faces(&path)?;
-        if faces <= max_faces {
-            meshes.push(DiskMesh { name: file.trim_end_matches(".obj").to_string(), path, faces });
-        }
-    }
-    meshes.sort_by(|a, b| a.faces.cmp(&b.faces).then(a.name.cmp(&b.name)));
-    Ok(meshes)
+/// The `disk_*.obj` test meshes with at most `max_faces` faces, smallest first, decompressed.
+pub fn disk_meshes(max_faces: usize) -> Vec<DiskMesh> {
+    meshes::up_to("disk_", max_faces)
+        .into_iter()
+        .map(|(_, file)| DiskMesh::named(file.trim_end_matches(".obj")))
+        .collect()
 }
 
 /// Vertices on the boundary (edges used by exactly one triangle), from the raw triangle list.

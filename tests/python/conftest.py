@@ -6,6 +6,7 @@ from __future__ import annotations
 import functools
 import os
 import subprocess
+import sys
 from pathlib import Path
 from typing import List, Optional, Tuple
 
@@ -13,7 +14,8 @@ import numpy as np
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
-MESHES = Path(os.environ.get("UVFLAT_MESHES", REPO.parent / "shared" / "meshes"))
+sys.path.insert(0, str(REPO / "tests" / "data"))
+import meshes  # noqa: E402  (tests/data/meshes.py: the repository's test meshes, unpacked)
 HEADER = REPO / "include" / "uvflat.h"
 IN_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
 
@@ -38,10 +40,8 @@ def cli_file() -> Path:
 
 
 def mesh_path(name: str) -> Path:
-    path = MESHES / name
-    if not path.exists():
-        missing(f"{path} not found (the shared meshes must sit beside the repository)")
-    return path
+    """The plain OBJ of test mesh ``name`` (``NAME.obj``, from ``tests/data/meshes``)."""
+    return meshes.mesh_path(name)
 
 
 def _index(word: str, count: int) -> int:
@@ -84,7 +84,7 @@ def _load(name: str) -> Tuple[np.ndarray, np.ndarray]:
 
 
 def load_mesh(name: str) -> Tuple[np.ndarray, np.ndarray]:
-    """(positions float64 (n, 3), triangles int64 (m, 3)) of a mesh of ../shared/meshes, cached
+    """(positions float64 (n, 3), triangles int64 (m, 3)) of a test mesh, cached
     and read-only (copy before changing them)."""
     return _load(name)
 

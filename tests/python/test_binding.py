@@ -1,7 +1,7 @@
 """Tests of the Python ctypes binding (bindings/python) against the built libuvflat.so.
 
 Run with scripts/python_tests.sh, which builds the library, installs the binding in a venv and
-sets UVFLAT_LIBRARY. Meshes come from ../shared/meshes; the CLI (target/release/uvflat) is
+sets UVFLAT_LIBRARY. Meshes come from tests/data/meshes; the CLI (target/release/uvflat) is
 the reference the binding's results must equal.
 """
 
@@ -44,7 +44,7 @@ SQUARE_T = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
 
 
 def canonical(name: str):
-    """A shared mesh as the binding wants it: float64 positions, uint32 triangles."""
+    """A test mesh as the binding wants it: float64 positions, uint32 triangles."""
     p, t = load_mesh(name)
     return p, t.astype(np.uint32)
 

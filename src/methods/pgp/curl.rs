@@ -22,7 +22,7 @@
 //! per 2π/ω of length) on most of the surface. Near the singular points of a cross field γ
 //! winds around the point and ṽ diverges logarithmically, so normalizing by max v instead (an
 //! earlier choice) shrank v by orders of magnitude almost everywhere on the meshes of
-//! `../shared/meshes` and made the periodic solve collapse.
+//! `tests/data/meshes` and made the periodic solve collapse.
 //!
 //! Cost: O(F) assembly and one V × V sparse Cholesky factorization.
 

@@ -57,7 +57,7 @@ pub const SMOOTHING_EPSILON: f64 = 0.1;
 /// Default Newton iteration limit of the smoothing. Far from convergence the penalty's Hessian
 /// is indefinite near the field's singularities and the steps are damped ([`super::solver`]),
 /// while the singularities settle within the first few iterations; beyond 8 iterations the field
-/// hardly changes on the meshes of `../shared/meshes` (the periodic solve, not the smoothing,
+/// hardly changes on the meshes of `tests/data/meshes` (the periodic solve, not the smoothing,
 /// is what the paper's 10⁻⁶ tolerance is for).
 pub const SMOOTHING_ITERATIONS: usize = 8;
 

@@ -211,7 +211,7 @@ fn mul_transposed<const B: usize>(m: &Block<B>, x: &[f64; B]) -> [f64; B] {
 /// The paper uses 10⁻³ so that the penalty prevents "the norms of the U, V's from decreasing"
 /// (§2.5) and singular points are where the norms vanish (its Fig. 5). With our F* (λ = cot/2,
 /// dimensionless) that does not happen at 10⁻³ on any of the 15 closed meshes of
-/// `../shared/meshes`: uniformly shrinking all unknowns by s changes F** by
+/// `tests/data/meshes`: uniformly shrinking all unknowns by s changes F** by
 /// (s² − 1) F* + ε n (s² − 1)², so whenever F* / n > 2ε (a field whose curl is not negligible
 /// at the scale of one edge times ω) the minimum has every norm near 0 — measured medians of
 /// ‖U‖ 3·10⁻⁵ (man) to 3·10⁻³ (cow) — and ∇F** < 10⁻⁶ holds only because everything is tiny.
@@ -224,7 +224,7 @@ pub const PERIODIC_EPSILON: f64 = 0.1;
 /// Default Newton iteration limit of the periodic solve: a safeguard, Newton normally stops
 /// earlier at ‖∇F**‖ < 10⁻⁶ (the paper's criterion). At ε = [`PERIODIC_EPSILON`] the singular
 /// points drift apart slowly after the first few iterations: with the damped steps (module
-/// comment) the tolerance takes 3–78 iterations on the 15 closed meshes of `../shared/meshes`
+/// comment) the tolerance takes 3–78 iterations on the 15 closed meshes of `tests/data/meshes`
 /// with and without curl correction, all but the mesh torus without it, which reaches the limit
 /// (2026-12-06: bob 6, knight 11, cow 20, bunny 27, man 33, armadillo 49, kitten 69, nefertiti
 /// 78 without curl correction; the paper needed ≤ 5 at its ε). Each iteration is one or two factorizations: on the 207k-face disk of
