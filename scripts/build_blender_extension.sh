@@ -3,7 +3,8 @@
 # vendored as blender_addon's subpackage `vendor/uvflat`) + the release libuvflat.so inside it.
 # Output: target/blender/uvflat-<version>-linux-x64.zip (or the path given as $1).
 # UVFLAT_CARGO_PROFILE chooses the cargo profile of the library (default release; the test suite
-# passes its own, `ci`, to reuse the library it already built).
+# passes its own, `ci`, to reuse the library it already built); UVFLAT_LIBRARY_FILE names a
+# library already built (scripts/dist.sh gives its stripped one), and then cargo is not run.
 # Install it in Blender: Edit > Preferences > Get Extensions > (menu) Install from Disk..., or
 #   blender --command extension install-file -r user_default target/blender/uvflat-*.zip
 set -euo pipefail
@@ -14,11 +15,15 @@ target=${CARGO_TARGET_DIR:-target}
 version=$(sed -n 's/^version = "\(.*\)"/\1/p' blender_addon/blender_manifest.toml | head -1)
 out=${1:-$target/blender/uvflat-$version-linux-x64.zip}
 
-profile=${UVFLAT_CARGO_PROFILE:-release}
-profile_dir=$profile
-[ "$profile" = dev ] && profile_dir=debug
-cargo build --profile "$profile" --locked --lib
-library="$target/$profile_dir/libuvflat.so"
+if [ -n "${UVFLAT_LIBRARY_FILE:-}" ]; then
+    library=$UVFLAT_LIBRARY_FILE
+else
+    profile=${UVFLAT_CARGO_PROFILE:-release}
+    profile_dir=$profile
+    [ "$profile" = dev ] && profile_dir=debug
+    cargo build --profile "$profile" --locked --lib
+    library="$target/$profile_dir/libuvflat.so"
+fi
 [ -f "$library" ] || { echo "error: $library was not built" >&2; exit 1; }
 
 stage="$target/blender/stage"
