@@ -334,8 +334,22 @@ pub(crate) fn descend(
     x0: Vec<[f64; 2]>,
     options: &NonlinearOptions,
     progress: &mut Progress,
-    mut direction: impl FnMut(&[[f64; 2]], &[[f64; 2]], bool) -> Result<Option<Vec<[f64; 2]>>>,
+    direction: impl FnMut(&[[f64; 2]], &[[f64; 2]], bool) -> Result<Option<Vec<[f64; 2]>>>,
 ) -> Result<Run> {
+    descend_while(problem, energy, x0, options, progress, direction, |_| true).map(|(run, _)| run)
+}
+
+/// [`descend`] that stops before the first step whose result `keep` refuses; the flag says
+/// whether it stopped so (the run then ends at the last kept iterate, not converged).
+pub(crate) fn descend_while(
+    problem: &Problem,
+    energy: Energy,
+    x0: Vec<[f64; 2]>,
+    options: &NonlinearOptions,
+    progress: &mut Progress,
+    mut direction: impl FnMut(&[[f64; 2]], &[[f64; 2]], bool) -> Result<Option<Vec<[f64; 2]>>>,
+    mut keep: impl FnMut(&[[f64; 2]]) -> bool,
+) -> Result<(Run, bool)> {
     let (frames, tris, n) = (&problem.frames, &problem.tris, problem.n());
     let gradient = |x: &[[f64; 2]]| {
         let (e, dj) = evaluate(energy, frames, tris, x, true);
@@ -374,6 +388,9 @@ pub(crate) fn descend(
             run.converged = true;
             break;
         };
+        if !keep(&step.uv) {
+            return Ok((run, true));
+        }
         let decrease = e - step.energy;
         run.x = step.uv;
         (e, grad) = gradient(&run.x);
@@ -384,7 +401,7 @@ pub(crate) fn descend(
             break;
         }
     }
-    Ok(run)
+    Ok((run, false))
 }
 
 /// Share of its area below which no triangle is let shrink by the energies that do not forbid

@@ -11,7 +11,14 @@
 //! rectangle (a locally injective, orientation-preserving map of a disk that is the identity on
 //! its boundary is a bijection); the chart's boundary therefore can never cross itself (§3).
 //!
-//! Each iteration (§4, "Scaffold construction" and "Optimization"):
+//! The scaffold is only paid for where it is needed: plain SLIM ([`super::slim`]) runs first,
+//! and every iterate it proposes is checked exactly for crossing boundary edges
+//! ([`metrics::count_boundary_crossings`]); at the first iterate whose boundary would cross
+//! itself, that step is refused and SCAF takes over from the last bijective iterate for the
+//! iterations left. A map whose plain SLIM run never runs into itself is plain SLIM's, at plain
+//! SLIM's cost plus one crossing test per iteration.
+//!
+//! Each SCAF iteration (§4, "Scaffold construction" and "Optimization"):
 //! 1. The scaffold is rebuilt for the current map: the constrained Delaunay triangulation
 //!    (`spade`) of the chart's boundary vertices and 4·`FRAME_POINTS_PER_SIDE` frame points,
 //!    with every boundary edge a constraint; its triangles outside the chart's image are the
@@ -36,8 +43,10 @@
 //! the scaffold changes.
 //!
 //! Guarantees: from a start with no flipped triangle and no crossing boundary edges, every
-//! iterate has neither (the CDT refuses a boundary that crosses itself, so a start that is not
-//! bijective fails with [`Error::InvalidArgument`]). Cost per iteration: one constrained
+//! iterate has neither (a start that is not bijective fails with [`Error::InvalidArgument`]).
+//! No flipped triangle and a boundary that does not cross itself make the map bijective: the
+//! number of preimages of a point is the winding number of the boundary's image around it,
+//! which for non-crossing, consistently oriented loops is 0 or 1. Cost per iteration: one constrained
 //! Delaunay triangulation of the boundary (O(B log B)), one symbolic and one numeric sparse
 //! Cholesky factorization of the 2n-unknown system.
 
@@ -48,6 +57,7 @@ use super::slim::{proxy_blocks, SlimSystem};
 use super::{NonlinearOptions, Problem, Run};
 use crate::error::{Error, Result};
 use crate::linalg::{lower_from_entries, ordering};
+use crate::metrics;
 use crate::progress::Progress;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 use std::collections::HashMap;
@@ -351,16 +361,26 @@ pub(crate) fn minimize(
         return Err(Error::InvalidArgument("a bijective map needs a boundary".into()));
     }
     let chart_energy = |x: &[[f64; 2]]| energy::energy(Energy::SymmetricDirichlet, &problem.frames, &problem.tris, x);
-    let mut e = chart_energy(&x0);
-    if !e.is_finite() {
+    if !chart_energy(&x0).is_finite() {
         return Err(Error::InvalidArgument("the starting map has a flipped or degenerate triangle".into()));
     }
-    let mut run = Run { x: x0, energy: vec![e], iterations: 0, converged: false };
+    if metrics::count_boundary_crossings(&x0, &edges) > 0 {
+        return Err(Error::InvalidArgument("the starting map's boundary crosses itself: it is not bijective".into()));
+    }
+    // Plain SLIM while its iterates stay bijective (checked exactly), SCAF from the last
+    // bijective one for the iterations left.
+    let plain = NonlinearOptions { bijective: false, ..options.clone() };
+    let keep = |x: &[[f64; 2]]| metrics::count_boundary_crossings(x, &edges) == 0;
+    let (mut run, crossed) = super::slim::minimize_while(problem, x0, &plain, progress, keep)?;
+    if !crossed {
+        return Ok(run);
+    }
+    let mut e = *run.energy.last().expect("the start's energy");
     let mut augmented: Option<Augmented> = None;
     // The first union's elimination order serves every later scaffold: the chart's vertices do
     // not change, and the scaffold's couplings change little from one triangulation to the next.
     let mut order = None;
-    for it in 0..options.iterations {
+    for it in run.iterations..options.iterations {
         progress.report(0.02 + 0.97 * it as f64 / options.iterations as f64)?;
         let (current, rebuilt) = match augmented.take() {
             Some(mut a) => {

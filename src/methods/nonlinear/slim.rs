@@ -21,7 +21,7 @@
 
 use super::energy::Energy;
 use super::jacobian::{RestFrames, Svd2};
-use super::{descend, NonlinearOptions, Problem, Run};
+use super::{descend_while, NonlinearOptions, Problem, Run};
 use crate::error::{Error, Result};
 use crate::linalg::{lower_from_entries, ordering, CholeskyPattern};
 use crate::progress::Progress;
@@ -233,13 +233,25 @@ pub(crate) fn minimize(
     options: &NonlinearOptions,
     progress: &mut Progress,
 ) -> Result<Run> {
+    minimize_while(problem, x0, options, progress, |_| true).map(|(run, _)| run)
+}
+
+/// [`minimize`] that stops before the first iterate `keep` refuses (see [`descend_while`]).
+pub(crate) fn minimize_while(
+    problem: &Problem,
+    x0: Vec<[f64; 2]>,
+    options: &NonlinearOptions,
+    progress: &mut Progress,
+    keep: impl FnMut(&[[f64; 2]]) -> bool,
+) -> Result<(Run, bool)> {
     let system = SlimSystem::new(problem.n(), &problem.tris, interleaved_order(problem)?)?;
     let inv = 1.0 / problem.frames.total_area;
-    descend(problem, Energy::SymmetricDirichlet, x0, options, progress, |x, _grad, reset| {
+    let direction = |x: &[[f64; 2]], _grad: &[[f64; 2]], reset: bool| {
         if reset {
             return Ok(None);
         }
         let blocks = proxy_blocks(&problem.frames, &problem.tris, x, inv);
         system.direction(&problem.tris, &blocks, x).map(Some)
-    })
+    };
+    descend_while(problem, Energy::SymmetricDirichlet, x0, options, progress, direction, keep)
 }
