@@ -2,16 +2,19 @@
 //!
 //! Computes UV maps of triangle meshes: the methods of Desbrun–Meyer–Alliez 2002
 //! (*Intrinsic Parameterizations*), of the Hormann–Lévy–Sheffer 2008 course
-//! (*Mesh Parameterization: Theory and Practice*) and, in time, Ray et al. 2006 (*Periodic
-//! Global Parameterization*). The crate builds as a Rust library, a C shared/static library
-//! (`include/uvflat.h`) and a command-line tool.
+//! (*Mesh Parameterization: Theory and Practice*) and Ray et al. 2006 (*Periodic Global
+//! Parameterization*), plus [`unwrap::unwrap`], which validates, cuts, flattens, verifies, repairs
+//! and packs any manifold mesh in one call. The crate builds as a Rust library, a C
+//! shared/static library (`include/uvflat.h`) and a command-line tool.
 //!
 //! Modules:
 //! - [`error`]: the error type, one variant per failure class, and the C status codes.
 //! - [`mesh`]: [`TriMesh`], the validated mesh (connectivity, boundary loops, topology).
 //! - [`geometry`]: per-triangle areas, angles and cotangents.
 //! - [`linalg`]: sparse assembly and factorizations (faer Cholesky / LU).
+//! - [`unwrap`](mod@unwrap): the default pipeline, valid UVs for any manifold mesh.
 //! - [`atlas`]: atlas mode: charts under a stretch bound, flattened and packed.
+//! - [`verify`]: the exact, method-independent check of a UV layout (flips, overlaps).
 //! - [`boundary`]: boundary shapes and distributions for fixed-boundary maps.
 //! - [`methods`]: the parameterization methods.
 //! - [`metrics`]: distortion measures.
@@ -30,7 +33,7 @@
 //! ```
 
 // The library never prints: callers see progress through `Progress` and failures through
-// `Error` (a leftover diagnostic print was found and removed once; clippy now refuses them).
+// `Error`; clippy refuses prints.
 #![deny(clippy::print_stdout, clippy::print_stderr)]
 
 pub mod atlas;
