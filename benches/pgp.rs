@@ -1,6 +1,6 @@
 //! Time of the whole PGP pipeline (Ray et al. 2006: curvature, smoothing, periodic solve,
 //! extraction, singularities, then the chart layout of §3.3, the per-chart parameterization of
-//! §3.4 and the quad-dominant remesh of §5) on large meshes, as a Markdown table of medians. The target is the full pipeline
+//! §3.4 and the quad-dominant remesh of §5) on large meshes, as a Markdown table of medians. The target is the full pipeline
 //! on a 200k-face mesh in under 60 s on this 2-core machine (the paper: 17 min for 200k faces
 //! on a 1.7 GHz machine).
 //!

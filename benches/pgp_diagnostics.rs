@@ -3,7 +3,7 @@
 //! how many singular points and triangles the parameterization has and of which kind (open
 //! path, negative area, tiny negative area), the norms ‖U‖ after the Newton refinement, the
 //! share of the L2 stretch carried by the worst triangles, and the quality columns of the
-//! README table. It produced the figures of the README's "Why the rate is high" bullets.
+//! table of docs/methods/pgp.md. It produced the figures of that page's "Why the rate is high" bullets.
 //!
 //!     cargo bench --bench pgp_diagnostics -- tests/data/meshes/closed_g0_cow.obj.gz
 //!

@@ -29,7 +29,7 @@ Table 2, on the disk_* meshes, for each method of --bijective-methods (default s
 `uvflat.nonlinear_map(V, F, method)` against the same with `bijective=True`: boundary
 crossings (the exact checker), L2, final energy, seconds (median).
 
-Usage: benches/unwrap_vs_peers.sh [--repeats N] [--skip-blender] [--skip-bijective] [--skip-peers]
+Usage: python benches/unwrap_vs_peers.py [--repeats N] [--skip-blender] [--skip-bijective] [--skip-peers]
        [--tight S] [--bijective-methods m1,m2] [name-filter ...]
 """
 import argparse

@@ -379,7 +379,7 @@
  * ‖U‖ 3·10⁻⁵ (man) to 3·10⁻³ (cow) — and ∇F** < 10⁻⁶ holds only because everything is tiny.
  * With ε = 0.1 (the smoothing's) the median ‖U‖ is ≈ 0.9, small norms mark the singular
  * points as in Fig. 5, and the singular triangles drop (bunny 3.8 → 2.2%, fertility
- * 3.6 → 1.5%, spot 2.3 → 1.3%, knight 25 → 14%, see the README). The price is a slower
+ * 3.6 → 1.5%, spot 2.3 → 1.3%, knight 25 → 14%, see docs/methods/pgp.md). The price is a slower
  * Newton phase (singular points drift apart over 10–30 iterations instead of 3–5).
  */
 #define PERIODIC_EPSILON 0.1
@@ -393,7 +393,7 @@
  * (2026-12-06: bob 6, knight 11, cow 20, bunny 27, man 33, armadillo 49, kitten 69, nefertiti
  * 78 without curl correction; the paper needed ≤ 5 at its ε). Each iteration is one or two factorizations: on the 207k-face disk of
  * `benches/pgp.rs` the whole pipeline converges (62 iterations) in 39–48 s on this shared
- * 2-core machine, against the issue's 60 s. A smaller limit trades the last digits of the
+ * 2-core machine, against a 60 s target. A smaller limit trades the last digits of the
  * gradient for time: the singular triangles change by at most 0.5 points after 10 iterations
  * (spot 1.26% at 10, 1.13% converged; kitten 0.90 / 0.81%).
  */
@@ -401,7 +401,7 @@
 
 /**
  * Default grid spacing in mean edge lengths. Rounding puts every cone on a grid point, so
- * cones closer than a cell or two fold the map between them; measured on the shared meshes
+ * cones closer than a cell or two fold the map between them; measured on the test meshes
  * (README), 3 edges per cell keeps the folds to a few percent of the triangles where 10 (PGP's
  * period) folds up to a quarter of them.
  */
@@ -1477,7 +1477,7 @@ typedef struct UvfPgpOptions {
    */
   double smoothing_epsilon;
   /**
-   * ε of the unit-norm penalty (default 0.1, the paper's is 1e-3: see the README; 0 = linear
+   * ε of the unit-norm penalty (default 0.1, the paper's is 1e-3: see docs/methods/pgp.md; 0 = linear
    * solve only).
    */
   double epsilon;
@@ -1487,7 +1487,7 @@ typedef struct UvfPgpOptions {
   double gradient_tolerance;
   /**
    * Newton iteration limit (default 100, a safeguard: Newton stops once ‖∇F**‖ < 1e-6, within
-   * 3–78 iterations in 29 of the 30 runs of the README's closed-mesh table — the mesh torus
+   * 3–78 iterations in 29 of the 30 runs of the closed-mesh table of docs/methods/pgp.md — the mesh torus
    * without curl correction reaches the limit, `converged` = 0 — and 62 iterations, about 40 s,
    * for a 207k-face mesh; 10 is about 3× faster with nearly the same singularities, see the
    * README).
@@ -1516,7 +1516,7 @@ typedef struct UvfPgpOptions {
   /**
    * Non-zero (default 1): untangle the per-corner (θ, φ) after Algorithm 1 — negative
    * triangles next to singular points made positive by moving vertex phases, every
-   * transition kept (not in the paper; see the README). 0: Algorithm 1's output as it is.
+   * transition kept (not in the paper; see docs/methods/pgp.md). 0: Algorithm 1's output as it is.
    * Added after `progress_user`: callers built before it get the default.
    */
   uint32_t untangle;
@@ -1524,21 +1524,21 @@ typedef struct UvfPgpOptions {
    * Minimum number of periods around a curved feature (default 3): where a curvature radius
    * r holds fewer than this many periods ω r, the field is scaled up (at most 2.5×) so that
    * legs, horns and fingers narrower than a period get travelling waves rather than singular
-   * standing ones (not in the paper; see the README). 0: the paper's single ω everywhere.
+   * standing ones (not in the paper; see docs/methods/pgp.md). 0: the paper's single ω everywhere.
    * Added after `untangle`: callers built before it get the default.
    */
   double feature_periods;
   /**
    * Cancel the ± quarter singularities of the smoothed cross field closer than this many
    * periods (2π/ω) to each other, re-solving the field around them (default 0.5; not in the
-   * paper, see the README). 0: keep the smoothed field's singularities. Added after
+   * paper, see docs/methods/pgp.md). 0: keep the smoothed field's singularities. Added after
    * `feature_periods`: callers built before it get the default.
    */
   double pair_periods;
   /**
    * Annihilate pairs of open triangles of opposite winding where the field is regular
    * (dislocations of the wave pattern) closer than this many periods (2π/ω), turning the
-   * phases around them (default 1.5; not in the paper, see the README). 0: keep the periodic
+   * phases around them (default 1.5; not in the paper, see docs/methods/pgp.md). 0: keep the periodic
    * solve's phases. Added after `pair_periods`: callers built before it get the default.
    */
   double dislocation_periods;
@@ -1546,7 +1546,7 @@ typedef struct UvfPgpOptions {
    * Non-zero (default 1): before the untangling, turn every vertex's phases by the
    * least-squares fit of the (θ, φ) triangles to the field, Algorithm 1's integers (hence
    * every transition and open triangle) kept, and use it only where it leaves no more
-   * singular triangles (not in the paper; see the README). 0: no relaxation. Added after
+   * singular triangles (not in the paper; see docs/methods/pgp.md). 0: no relaxation. Added after
    * `dislocation_periods`: callers built before it get the default.
    */
   uint32_t relax;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # QuadCover quad-mesh table (README, "QuadCover"): runs `uvflat quadcover --quad-mesh --json`
-# with the default options and with --cones-on-grid on the meshes of the README table (or the
+# with the default options and with --cones-on-grid on the meshes of the table in docs/methods/quadcover.md (or the
 # meshes given as arguments) and prints a Markdown row per mesh: folded triangles, faces of the
 # quad mesh and their share of quads, for both modes. Set UVFLAT to use another CLI binary
 # (default target/release/uvflat, built here) and UVFLAT_QUADCOVER_ARGS to pass more options

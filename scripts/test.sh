@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The project's test command (README "Testing"): installs on Debian what the tests need
+# The project's test command (README "Testing", docs/testing.md): installs on Debian what the tests need
 # (CGAL + Eigen for the reference cross-check, OpenMesh for the C++ tests, a C/C++ compiler),
 # then runs every test. Set CI=true to make missing references fail instead of skip.
 set -euo pipefail

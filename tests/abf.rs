@@ -1,5 +1,5 @@
-//! ABF / ABF++ claims (Sheffer & de Sturler 2001; Sheffer et al. 2005; course notes §4.5, issue
-//! 4) on every disk mesh of `tests/data/meshes` with at most 100k faces (the bench
+//! ABF / ABF++ claims (Sheffer & de Sturler 2001; Sheffer et al. 2005; course notes §4.5) on
+//! every disk mesh of `tests/data/meshes` with at most 100k faces (the bench
 //! `benches/abf.rs` prints the full table):
 //! - ABF++ reaches ‖∇L‖ ≤ 1e-6 in at most 10 iterations;
 //! - after reconstruction no triangle is flipped;
@@ -8,7 +8,7 @@
 //! - a progress callback that refuses stops the method within one iteration.
 //!
 //! The default objective is the papers' with weights 1/(β(π − β)) and an angle barrier; with
-//! the papers' own objective two meshes miss a claim (see the README's ABF++ section and the
+//! the papers' own objective two meshes miss a claim (see docs/methods/nonlinear.md, "ABF and ABF++", and the
 //! module comment of `methods::abf`), which the last tests document.
 
 #[path = "common/meshes.rs"]
@@ -51,7 +51,7 @@ const DISKS: [&str; 18] = [
     "disk_bimba_cut.obj",
 ];
 
-/// ABF++ with `options` on `file` meets the issue's claims; returns a description of the
+/// ABF++ with `options` on `file` meets the papers' claims; returns a description of the
 /// first claim it misses.
 fn claims(file: &str, options: &AbfOptions) -> Result<(), String> {
     let (mesh, points, tris) = load(file);

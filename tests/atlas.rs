@@ -243,7 +243,7 @@ fn island_stretches(mesh: &TriMesh, atlas: &Atlas) -> Vec<f64> {
         .collect()
 }
 
-/// The issue-level claim of the default unwrap, on every manifold mesh: no flipped triangle, no
+/// The promise of the default unwrap, on every manifold mesh: no flipped triangle, no
 /// overlap (this file's triangle-pair test and the library's exact checker agree), every
 /// island's L2 stretch at most 1.5 by an independent measurement; with the bound off, one island
 /// per connected component and still no flip or overlap.

@@ -1,5 +1,5 @@
 //! Circle-pattern conformal map (Kharevych, Springborn & Schröder 2006; partial implementation,
-//! see the README) on the real disk meshes of `tests/data/meshes` up to 10k faces, with and
+//! see docs/methods/circle_patterns.md) on the real disk meshes of `tests/data/meshes` up to 10k faces, with and
 //! without the intrinsic Delaunay flips: every circle closes and the report's flip count is
 //! the mesh's; with the flips (the paper's method) the map is as conformal as the natural
 //! conformal map; without them the pattern is laid out on the mesh's own triangles, so none
@@ -23,7 +23,7 @@ use uvflat::metrics::{distortion, Metrics};
 use uvflat::progress::Progress;
 use uvflat::{fixed_boundary_map, natural_conformal_map, FixedBoundaryOptions, TriMesh};
 
-/// Largest disk mesh tested; `UVFLAT_CIRCLE_MAX_FACES` raises it (the README's larger meshes).
+/// Largest disk mesh tested; `UVFLAT_CIRCLE_MAX_FACES` raises it (the larger meshes of docs/methods/circle_patterns.md).
 fn max_faces() -> usize {
     std::env::var("UVFLAT_CIRCLE_MAX_FACES").ok().and_then(|v| v.parse().ok()).unwrap_or(10_000)
 }

@@ -430,7 +430,7 @@ fn spectral_map_is_the_smallest_nontrivial_generalized_eigenvector() {
         ));
     }
     println!("{}", table.join("\n"));
-    // Mullen et al.'s claim, as the issue states it: no worse than the natural conformal map on
+    // Mullen et al.'s claim: no worse than the natural conformal map on
     // at least half of the disk meshes.
     assert!(2 * not_worse >= meshes.len(), "spectral no worse on only {not_worse} of {} meshes", meshes.len());
 }

@@ -1,4 +1,4 @@
-//! The claims of the distortion-minimizing methods (issue 4), on real meshes.
+//! The claims of the distortion-minimizing methods, on real meshes.
 //!
 //! - Flip-free line search (Smith & Schaefer 2015): starting from a bijective map, SLIM, ARAP,
 //!   MIPS, stretch, Green–Lagrange and Degener return maps with zero flipped and zero degenerate

@@ -454,7 +454,7 @@ fn angle_weighted_normals(mesh: &TriMesh) -> Vec<[f64; 3]> {
 /// quarter indices must sum to about 4χ = −1056, and a triangle whose normals turn by less than
 /// 45° holds at most one quarter: `forced.rs`'s bound, valid for every field, ω and solve,
 /// is then above 5% of the triangles. (PGP's own normals, averaged over two rings, wrap around
-/// on hundreds of cheese triangles, which is why their bound is lower; see the README.)
+/// on hundreds of cheese triangles, which is why their bound is lower; see docs/methods/pgp.md.)
 #[test]
 fn cheese_needs_more_singular_triangles_than_the_paper_reports_over_angle_weighted_normals() {
     let mesh = load("closed_g133_cheese.obj");
@@ -563,7 +563,7 @@ fn remesh_row(file: &str, mesh: &TriMesh, r: &uvflat::methods::pgp::PgpResult) -
 fn curl_correction_gives_fewer_singular_triangles_within_the_papers_range_on_real_meshes() {
     // Ray et al. 2006 §6: singular triangles are "2 – 3% of the triangles", "particularly low
     // when curl-correction is applied". Closed test meshes with 5k–25k regular
-    // triangles (the coarse and sliver-ridden ones are reported in the README, not asserted).
+    // triangles (the coarse and sliver-ridden ones are reported in docs/methods/pgp.md, not asserted).
     // The paper's own pipeline (one ω, Algorithm 1, no untangling): the claim is about it.
     for file in ["closed_g0_bunny.obj", "closed_g0_spot.obj", "closed_g1_knot.obj", "closed_g3_triple_torus.obj"] {
         let mesh = load(file);

@@ -188,7 +188,7 @@ fn alignment_degrees(mesh: &TriMesh, result: &QuadCoverResult) -> f64 {
 
 #[test]
 fn real_meshes_get_integer_seams_and_cones_and_hopf_poincare_holds() {
-    // The large scans (> 80k faces) and the genus-133 cheese take minutes: the README table has
+    // The large scans (> 80k faces) and the genus-133 cheese take minutes: the table of docs/methods/quadcover.md has
     // them.
     let names = table_meshes();
     println!("| mesh | faces | cones | chains | flipped | energy cont. | energy | alignment ° | seconds | quad mesh faces | quads | area | quad angle error ° | s |");

@@ -143,30 +143,30 @@ struct PgpArgs {
     curl_correction: bool,
     /// Keep Algorithm 1's per-corner (θ, φ) as it is: no untangling of the negative triangles
     /// next to singular points (the untangling moves vertex phases, keeping every transition;
-    /// not in the paper, see the README).
+    /// not in the paper, see docs/methods/pgp.md).
     #[arg(long = "no-untangle")]
     no_untangle: bool,
     /// No phase relaxation before the untangling (the relaxation turns every vertex's phases by
     /// the least-squares fit of the (theta, phi) triangles to the field, keeping every
     /// transition, and is used only where it leaves no more singular triangles; not in the
-    /// paper, see the README).
+    /// paper, see docs/methods/pgp.md).
     #[arg(long = "no-relax")]
     no_relax: bool,
     /// Minimum number of periods around a curved feature: where a curvature radius r holds fewer
     /// than C periods (omega r < C), the frequency is raised there (at most 2.5x) so that legs,
     /// horns and fingers narrower than a period are not singular standing waves (not in the
-    /// paper, see the README). 0: the paper's single omega everywhere.
+    /// paper, see docs/methods/pgp.md). 0: the paper's single omega everywhere.
     #[arg(long = "feature-periods", default_value_t = uvflat::methods::pgp::density::DEFAULT_FEATURE_PERIODS)]
     feature_periods: f64,
     /// Cancel the +1/4 and -1/4 singularities of the smoothed cross field that lie closer than
     /// P periods (2pi/omega) to each other, re-solving the field around them (not in the paper,
-    /// see the README): on coarse meshes most such pairs only add singular triangles. 0: keep
+    /// see docs/methods/pgp.md): on coarse meshes most such pairs only add singular triangles. 0: keep
     /// the smoothed field's singularities.
     #[arg(long = "pair-periods", default_value_t = uvflat::methods::pgp::pairs::DEFAULT_PAIR_PERIODS)]
     pair_periods: f64,
     /// Annihilate pairs of open triangles of opposite winding where the field is regular
     /// (dislocations of the wave pattern) closer than P periods, turning the phases around
-    /// them (not in the paper, see the README). 0: keep the periodic solve's phases.
+    /// them (not in the paper, see docs/methods/pgp.md). 0: keep the periodic solve's phases.
     #[arg(long = "dislocation-periods", default_value_t = uvflat::methods::pgp::dislocations::DEFAULT_DISLOCATION_PERIODS)]
     dislocation_periods: f64,
     /// Field smoothing (§4.2): directions equal modulo 2pi, pi or pi/2, or none.
@@ -175,7 +175,7 @@ struct PgpArgs {
     /// Newton iterations of the periodic solve (§2.5; stops earlier once the gradient norm is
     /// below 1e-6, within 3–78 iterations on the meshes measured but one: the mesh torus without
     /// curl correction reaches 100). 10 is about 3× faster with
-    /// nearly the same singularities (see the README).
+    /// nearly the same singularities (see docs/methods/pgp.md).
     #[arg(long = "newton-iterations", default_value_t = uvflat::methods::pgp::solver::PERIODIC_ITERATIONS)]
     newton_iterations: usize,
     /// Write the quad-dominant remesh (§5: iso-lines of θ and φ, non-quads split) to this OBJ.

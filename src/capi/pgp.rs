@@ -162,13 +162,13 @@ pub struct UvfPgpOptions {
     pub rho: f64,
     /// ε of the smoothing's unit-norm penalty (default 0.1).
     pub smoothing_epsilon: f64,
-    /// ε of the unit-norm penalty (default 0.1, the paper's is 1e-3: see the README; 0 = linear
+    /// ε of the unit-norm penalty (default 0.1, the paper's is 1e-3: see docs/methods/pgp.md; 0 = linear
     /// solve only).
     pub epsilon: f64,
     /// Newton stops when ‖∇F**‖ is below this (default 1e-6).
     pub gradient_tolerance: f64,
     /// Newton iteration limit (default 100, a safeguard: Newton stops once ‖∇F**‖ < 1e-6, within
-    /// 3–78 iterations in 29 of the 30 runs of the README's closed-mesh table — the mesh torus
+    /// 3–78 iterations in 29 of the 30 runs of the closed-mesh table of docs/methods/pgp.md — the mesh torus
     /// without curl correction reaches the limit, `converged` = 0 — and 62 iterations, about 40 s,
     /// for a 207k-face mesh; 10 is about 3× faster with nearly the same singularities, see the
     /// README).
@@ -185,29 +185,29 @@ pub struct UvfPgpOptions {
     pub progress_user: *mut c_void,
     /// Non-zero (default 1): untangle the per-corner (θ, φ) after Algorithm 1 — negative
     /// triangles next to singular points made positive by moving vertex phases, every
-    /// transition kept (not in the paper; see the README). 0: Algorithm 1's output as it is.
+    /// transition kept (not in the paper; see docs/methods/pgp.md). 0: Algorithm 1's output as it is.
     /// Added after `progress_user`: callers built before it get the default.
     pub untangle: u32,
     /// Minimum number of periods around a curved feature (default 3): where a curvature radius
     /// r holds fewer than this many periods ω r, the field is scaled up (at most 2.5×) so that
     /// legs, horns and fingers narrower than a period get travelling waves rather than singular
-    /// standing ones (not in the paper; see the README). 0: the paper's single ω everywhere.
+    /// standing ones (not in the paper; see docs/methods/pgp.md). 0: the paper's single ω everywhere.
     /// Added after `untangle`: callers built before it get the default.
     pub feature_periods: f64,
     /// Cancel the ± quarter singularities of the smoothed cross field closer than this many
     /// periods (2π/ω) to each other, re-solving the field around them (default 0.5; not in the
-    /// paper, see the README). 0: keep the smoothed field's singularities. Added after
+    /// paper, see docs/methods/pgp.md). 0: keep the smoothed field's singularities. Added after
     /// `feature_periods`: callers built before it get the default.
     pub pair_periods: f64,
     /// Annihilate pairs of open triangles of opposite winding where the field is regular
     /// (dislocations of the wave pattern) closer than this many periods (2π/ω), turning the
-    /// phases around them (default 1.5; not in the paper, see the README). 0: keep the periodic
+    /// phases around them (default 1.5; not in the paper, see docs/methods/pgp.md). 0: keep the periodic
     /// solve's phases. Added after `pair_periods`: callers built before it get the default.
     pub dislocation_periods: f64,
     /// Non-zero (default 1): before the untangling, turn every vertex's phases by the
     /// least-squares fit of the (θ, φ) triangles to the field, Algorithm 1's integers (hence
     /// every transition and open triangle) kept, and use it only where it leaves no more
-    /// singular triangles (not in the paper; see the README). 0: no relaxation. Added after
+    /// singular triangles (not in the paper; see docs/methods/pgp.md). 0: no relaxation. Added after
     /// `dislocation_periods`: callers built before it get the default.
     pub relax: u32,
 }

@@ -1296,7 +1296,7 @@ def test_the_other_methods_keep_the_boundary_apart_when_bijective(method):
     assert report.final_energy <= report.initial_energy
 
 
-# --- issue 3: near-optimal λ, boundary optimization, spectral conformal -----------------------
+# --- near-optimal λ, boundary optimization, spectral conformal ------------------------------
 
 
 def edge_energy(p, t, uv):

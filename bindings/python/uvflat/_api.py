@@ -1556,26 +1556,26 @@ def pgp(
     ``"pi/2"``), optional curl correction, the periodic solve and the per-corner (θ, φ).
     ``omega`` defaults to 2π / (10 × mean edge length); ``rho`` is the smoothing intensity
     (paper 0.8) and ``epsilon`` the weight of the periodic solve's unit-norm penalty (0.1; the
-    paper's 10⁻³ lets every norm collapse on typical meshes, see the README);
+    paper's 10⁻³ lets every norm collapse on typical meshes, see docs/methods/pgp.md);
     ``max_newton_iterations`` bounds its Newton phase, which stops at the paper's ‖∇F**‖ < 10⁻⁶
     (5–80 iterations on the meshes measured, ``converged`` tells; 10 is about 3× faster with
     nearly the same singularities). ``untangle=False`` keeps Algorithm 1's per-corner (θ, φ) as
     it is; by default the negative triangles next to singular points are made positive by
-    moving vertex phases, every transition kept (not in the paper; see the README).
+    moving vertex phases, every transition kept (not in the paper; see docs/methods/pgp.md).
     ``feature_periods`` is the minimum number of periods around a curved feature: where a
     curvature radius r holds fewer (ω r < feature_periods) the frequency is raised there, at
     most 2.5×, so that legs, horns and fingers narrower than a period are not singular standing
-    waves (not in the paper; see the README); 0 keeps the paper's single ω everywhere.
+    waves (not in the paper; see docs/methods/pgp.md); 0 keeps the paper's single ω everywhere.
     ``pair_periods``: the +¼ and −¼ singularities of the smoothed cross field closer than this
     many periods (2π/ω) are cancelled together and the field re-solved around them (not in the
-    paper; see the README); 0 keeps the smoothed field's singularities.
+    paper; see docs/methods/pgp.md); 0 keeps the smoothed field's singularities.
     ``dislocation_periods``: open triangles of opposite winding where the field is regular
     (dislocations of the wave pattern) closer than this many periods are annihilated together by
-    turning the phases around them (not in the paper; see the README); 0 keeps the periodic
+    turning the phases around them (not in the paper; see docs/methods/pgp.md); 0 keeps the periodic
     solve's phases. ``relax=False`` skips the phase relaxation that by default runs before the
     untangling: every vertex's phases turned by the least-squares fit of the (θ, φ) triangles to
     the field, every transition kept, used only where it leaves no more singular triangles (not
-    in the paper; see the README).
+    in the paper; see docs/methods/pgp.md).
 
     ``quad_mesh`` (a whole number of iso-lines per period, e.g. 8) also returns the quad-dominant
     remesh of §5 (vertices on the surface, non-quads split into quads and triangles; quad sides

@@ -30,7 +30,7 @@
 //! Schur complement, whose entries y/p of the active Delaunay constraints reach 10¹¹ and more,
 //! loses the accuracy the dual residual needs (measured on a lattice whose every diagonal is
 //! non-Delaunay: the residual grew from 10⁻⁸ to 10³ once μ went below 10⁻¹⁰). Measured against that method
-//! on the disk meshes: see the README ("Circle patterns").
+//! on the disk meshes: see docs/methods/circle_patterns.md.
 
 use super::{delaunay_slack, AngleProgram};
 use crate::error::{Error, Result};

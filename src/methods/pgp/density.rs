@@ -26,7 +26,7 @@
 //! paper's result at a higher ω. Like curl correction, this makes the parameterization
 //! conformal rather than isometric where s varies.
 //!
-//! Measured (README "Feature-adaptive density", `scripts/pgp_quality.sh`): c = 3 takes cow from
+//! Measured (docs/methods/pgp.md, "Feature-adaptive density", `scripts/pgp_quality.sh`): c = 3 takes cow from
 //! 10.4 to 2.5% singular triangles and man from 6.6 to 2.1%, and leaves the meshes without thin
 //! features (bunny, fertility, nefertiti, kitten) within ±0.1 point.
 //!

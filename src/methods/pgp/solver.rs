@@ -217,7 +217,7 @@ fn mul_transposed<const B: usize>(m: &Block<B>, x: &[f64; B]) -> [f64; B] {
 /// ‖U‖ 3·10⁻⁵ (man) to 3·10⁻³ (cow) — and ∇F** < 10⁻⁶ holds only because everything is tiny.
 /// With ε = 0.1 (the smoothing's) the median ‖U‖ is ≈ 0.9, small norms mark the singular
 /// points as in Fig. 5, and the singular triangles drop (bunny 3.8 → 2.2%, fertility
-/// 3.6 → 1.5%, spot 2.3 → 1.3%, knight 25 → 14%, see the README). The price is a slower
+/// 3.6 → 1.5%, spot 2.3 → 1.3%, knight 25 → 14%, see docs/methods/pgp.md). The price is a slower
 /// Newton phase (singular points drift apart over 10–30 iterations instead of 3–5).
 pub const PERIODIC_EPSILON: f64 = 0.1;
 
@@ -229,7 +229,7 @@ pub const PERIODIC_EPSILON: f64 = 0.1;
 /// (2026-12-06: bob 6, knight 11, cow 20, bunny 27, man 33, armadillo 49, kitten 69, nefertiti
 /// 78 without curl correction; the paper needed ≤ 5 at its ε). Each iteration is one or two factorizations: on the 207k-face disk of
 /// `benches/pgp.rs` the whole pipeline converges (62 iterations) in 39–48 s on this shared
-/// 2-core machine, against the 60 s. A smaller limit trades the last digits of the
+/// 2-core machine, against a 60 s target. A smaller limit trades the last digits of the
 /// gradient for time: the singular triangles change by at most 0.5 points after 10 iterations
 /// (spot 1.26% at 10, 1.13% converged; kitten 0.90 / 0.81%).
 pub const PERIODIC_ITERATIONS: usize = 100;

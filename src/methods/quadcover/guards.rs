@@ -7,7 +7,7 @@
 //! triangle, the rounding alone decides whether they land on the same grid point — then the
 //! triangle is flat whatever the real unknowns do, and neither stiffening nor the untangling
 //! can open it (two cones rounded onto one point were 150 of the 189 folds left over the 15
-//! meshes of the README's table). With three fixed corners it decides the orientation too.
+//! meshes of the table in docs/methods/quadcover.md). With three fixed corners it decides the orientation too.
 //!
 //! The greedy rounding ([`super::integration`], the order of Bommes, Zimmer & Kobbelt 2009 §4)
 //! consults the guards: when the unknowns it rounds complete a guard's dependencies and the

@@ -353,7 +353,7 @@ fn violated(guards: &[Guard], w: &[f64]) -> usize {
 }
 
 /// Share of the folds with a free corner that the untangling opened over the 15 meshes of the
-/// README's table (148 of 187; [`super::untangle`]).
+/// table in docs/methods/quadcover.md (148 of 187; [`super::untangle`]).
 const UNTANGLED_SHARE: f64 = 0.79;
 
 /// Folds expected after the untangling: the triangles flat whatever the vertices (`flat`, all
@@ -362,7 +362,7 @@ fn expected_folds(folded: usize, flat: usize) -> f64 {
     flat as f64 + (1.0 - UNTANGLED_SHARE) * folded.saturating_sub(flat) as f64
 }
 
-/// Rounds of re-rounding in [`integrate`] at most. Measured on the 15 meshes of the README
+/// Rounds of re-rounding in [`integrate`] at most. Measured on the 15 meshes of docs/methods/quadcover.md
 /// table: folded triangles 354 → 337 (spot 14 → 0, bunny 2 → 1, knight 128 → 126; cow and man,
 /// whose folds come from the continuous solve, unchanged), man 4.7 → 8.0 s; without stopping
 /// at the first round that does not help, 331 folds and man 13.4 s.

@@ -49,7 +49,7 @@ use crate::TriMesh;
 use std::collections::HashSet;
 
 /// Default grid spacing in mean edge lengths. Rounding puts every cone on a grid point, so
-/// cones closer than a cell or two fold the map between them; measured on the shared meshes
+/// cones closer than a cell or two fold the map between them; measured on the test meshes
 /// (README), 3 edges per cell keeps the folds to a few percent of the triangles where 10 (PGP's
 /// period) folds up to a quarter of them.
 pub const DEFAULT_EDGES_PER_CELL: f64 = 3.0;
