@@ -58,3 +58,28 @@ fn every_test_mesh_is_in_the_manifest_with_its_source_license_and_true_counts() 
         assert_eq!(count("f "), row[faces], "{name}: faces");
     }
 }
+
+#[test]
+fn the_readme_is_a_front_page_and_the_docs_tell_no_history() {
+    let readme = std::fs::read_to_string(Path::new(ROOT).join("README.md")).expect("README.md");
+    assert!(readme.lines().count() <= 250, "README.md has {} lines", readme.lines().count());
+    let mut pages = vec![Path::new(ROOT).join("README.md")];
+    let mut stack = vec![Path::new(ROOT).join("docs")];
+    while let Some(dir) = stack.pop() {
+        for path in std::fs::read_dir(&dir).expect("docs").flatten().map(|e| e.path()) {
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "md") {
+                pages.push(path);
+            }
+        }
+    }
+    let history = ["issue 1", "issue 2", "issue 3", "issue 4", "issue 5", "issue 6", "issue 7", "issue 8", "issue 9"];
+    let narration = ["this session", "this branch"];
+    for page in &pages {
+        let text = std::fs::read_to_string(page).expect("page").to_lowercase();
+        for phrase in history.iter().chain(&narration) {
+            assert!(!text.contains(phrase), "{} says {phrase:?}", page.display());
+        }
+    }
+}
