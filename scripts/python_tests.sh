@@ -36,7 +36,7 @@ if [ ! -x "$venv/bin/python" ] || ! "$venv/bin/python" -c "import sys" 2>/dev/nu
 fi
 py="$venv/bin/python"
 
-"$py" -m pip install -q --disable-pip-version-check numpy pytest "setuptools>=61" wheel
+"$py" -m pip install -q --disable-pip-version-check numpy pytest "setuptools>=70.1" wheel
 # bpy (Blender 4.5 as a Python module) for the add-on tests (tests/python/test_blender_addon.py);
 # its wheels exist for CPython 3.11 only. pip returns at once when it is already installed.
 if "$py" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))'; then

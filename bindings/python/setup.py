@@ -6,7 +6,10 @@ without a library in the package it stays pure (``py3-none-any``) and finds one 
 from pathlib import Path
 
 from setuptools import setup
-from setuptools.command.bdist_wheel import bdist_wheel
+try:
+    from setuptools.command.bdist_wheel import bdist_wheel
+except ImportError:  # setuptools < 70.1 keeps it in the `wheel` package
+    from wheel.bdist_wheel import bdist_wheel
 from setuptools.dist import Distribution
 
 LIBRARIES = ("libuvflat.so", "libuvflat.dylib", "uvflat.dll")
