@@ -50,12 +50,16 @@ pub fn closed_meshes() -> Vec<String> {
     names
 }
 
-/// Triangle count of mesh `file` as `MANIFEST.tsv` states it (its `faces` column).
+/// Triangle count of mesh `file` as `MANIFEST.tsv` states it (its `faces` column; the manifest
+/// is read once per process).
 pub fn faces(file: &str) -> usize {
-    let manifest = std::fs::read_to_string(Path::new(DIR).join("MANIFEST.tsv")).expect("MANIFEST.tsv");
-    let row = format!("{file}.gz\t");
-    let line = manifest.lines().find(|l| l.starts_with(&row)).unwrap_or_else(|| panic!("{file} not in MANIFEST.tsv"));
-    line.split('\t').nth(4).and_then(|f| f.parse().ok()).unwrap_or_else(|| panic!("{file}: no face count"))
+    static FACES: std::sync::OnceLock<std::collections::HashMap<String, usize>> = std::sync::OnceLock::new();
+    let faces = FACES.get_or_init(|| {
+        let manifest = std::fs::read_to_string(Path::new(DIR).join("MANIFEST.tsv")).expect("MANIFEST.tsv");
+        let rows = manifest.lines().skip(1).map(|l| l.split('\t').collect::<Vec<_>>());
+        rows.filter_map(|r| Some((r[0].strip_suffix(".gz")?.to_string(), r.get(4)?.parse().ok()?))).collect()
+    });
+    *faces.get(file).unwrap_or_else(|| panic!("{file}: no face count in MANIFEST.tsv"))
 }
 
 /// Meshes whose names start with `prefix` and that have at most `max_faces` triangles, smallest

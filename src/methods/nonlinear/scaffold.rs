@@ -46,9 +46,9 @@
 //! iterate has neither (a start that is not bijective fails with [`Error::InvalidArgument`]).
 //! No flipped triangle and a boundary that does not cross itself make the map bijective: the
 //! number of preimages of a point is the winding number of the boundary's image around it,
-//! which for non-crossing, consistently oriented loops is 0 or 1. Cost per iteration: one constrained
-//! Delaunay triangulation of the boundary (O(B log B)), one symbolic and one numeric sparse
-//! Cholesky factorization of the 2n-unknown system.
+//! which for non-crossing, consistently oriented loops is 0 or 1. Cost per SCAF iteration: one
+//! constrained Delaunay triangulation of the boundary (O(B log B)), one symbolic and one numeric
+//! sparse Cholesky factorization of the 2n-unknown system.
 
 use super::energy::{self, evaluate, vertex_gradient, Energy};
 use super::jacobian::RestFrames;
