@@ -86,7 +86,32 @@ write() { # write DEST-RELATIVE-TO-PREFIX < content
 put 755 "$lib_dir/libuvflat.so" "lib/libuvflat.so.$version"
 link "libuvflat.so.$version" "lib/libuvflat.so.$major"   # the SONAME (build.rs)
 link "libuvflat.so.$major" "lib/libuvflat.so"
-put 644 "$lib_dir/libuvflat.a" lib/libuvflat.a
+# The static library as one relocatable object whose only global symbols are the uvf_*
+# functions: rustc's archive also exports the Rust runtime and every dependency
+# (rust_eh_personality, __rust_alloc, compiler builtins, faer kernels: thousands of symbols),
+# which clash with a second Rust static library linked into the same program. `ld -r` joins
+# the archive's objects, the embedded LLVM bitcode (.llvmbc: dead weight, and LLVM's bfd plugin
+# cannot read the joined sections) is dropped, the COMDAT groups get private names (a linker
+# keeps one group per name: ours, made local, would otherwise replace another library's
+# DW.ref.rust_eh_personality), and objcopy makes every other symbol local.
+localized_archive() { # localized_archive IN OUT
+    local work
+    work=$(mktemp -d)
+    ld -r --whole-archive "$1" -o "$work/uvflat.o"
+    objcopy --remove-section=.llvmbc --remove-section=.llvmcmd "$work/uvflat.o"
+    nm -g --defined-only "$work/uvflat.o" | awk '$3 ~ /^uvf_/ { print $3 }' > "$work/exports"
+    [ -s "$work/exports" ] || { echo "error: no uvf_ symbols in $1" >&2; rm -rf "$work"; exit 1; }
+    readelf -W -g "$work/uvflat.o" | sed -n "s/^COMDAT group section .* \[\(.*\)\] contains .*/\1 uvflat.private.\1/p" \
+        | sort -u > "$work/groups"
+    objcopy --redefine-syms="$work/groups" --keep-global-symbols="$work/exports" "$work/uvflat.o"
+    rm -f "$2"
+    ar crs "$2" "$work/uvflat.o"
+    rm -rf "$work"
+}
+install -d "$root/lib"
+localized_archive "$lib_dir/libuvflat.a" "$root/lib/libuvflat.a"
+chmod 644 "$root/lib/libuvflat.a"
+installed+=(lib/libuvflat.a)
 put 644 include/uvflat.h include/uvflat.h
 put 644 bindings/cpp/uvflat.hpp include/uvflat.hpp
 if [ -f "$lib_dir/uvflat" ]; then put 755 "$lib_dir/uvflat" bin/uvflat; fi
@@ -142,21 +167,20 @@ CMAKE
 sed -i "s/@MAJOR@/$major/" "$root/lib/cmake/uvflat/uvflatConfig.cmake"
 
 write lib/cmake/uvflat/uvflatConfigVersion.cmake <<CMAKE
+# One rule for every version number (docs/c-api.md): the ABI is the major version, so a
+# request is met by the same major version at or above the requested one.
 set(PACKAGE_VERSION "$version")
-if(PACKAGE_FIND_VERSION VERSION_GREATER PACKAGE_VERSION)
+string(REGEX MATCH "^[0-9]+" _have_major "\${PACKAGE_VERSION}")
+string(REGEX MATCH "^[0-9]+" _want_major "\${PACKAGE_FIND_VERSION}")
+if(NOT PACKAGE_FIND_VERSION)
+  set(PACKAGE_VERSION_COMPATIBLE TRUE)
+elseif(PACKAGE_FIND_VERSION VERSION_GREATER PACKAGE_VERSION OR NOT _have_major STREQUAL _want_major)
   set(PACKAGE_VERSION_COMPATIBLE FALSE)
 else()
-  # 0.x releases: compatible within the same minor version.
-  string(REGEX MATCH "^[0-9]+\\\\.[0-9]+" _have "\${PACKAGE_VERSION}")
-  string(REGEX MATCH "^[0-9]+\\\\.[0-9]+" _want "\${PACKAGE_FIND_VERSION}")
-  if(_have STREQUAL _want OR NOT PACKAGE_FIND_VERSION)
-    set(PACKAGE_VERSION_COMPATIBLE TRUE)
-  else()
-    set(PACKAGE_VERSION_COMPATIBLE FALSE)
-  endif()
-  if(PACKAGE_FIND_VERSION STREQUAL PACKAGE_VERSION)
-    set(PACKAGE_VERSION_EXACT TRUE)
-  endif()
+  set(PACKAGE_VERSION_COMPATIBLE TRUE)
+endif()
+if(PACKAGE_FIND_VERSION STREQUAL PACKAGE_VERSION)
+  set(PACKAGE_VERSION_EXACT TRUE)
 endif()
 CMAKE
 

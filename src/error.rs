@@ -1,36 +1,10 @@
 //! Errors of the whole library: one variant per failure class, each carrying the data a caller
 //! needs to find and fix the problem (which triangle, which vertex, which count).
 //!
-//! The C ABI maps every variant to a `UvfStatus` code (see [`Error::status`]) and its `Display`
-//! text becomes `uvf_last_error_message()`.
+//! The C ABI (`capi::status`) maps every variant to a `UvfStatus` code, and its `Display` text
+//! becomes the C caller's error message.
 
 use std::fmt;
-
-/// Status codes of the C ABI. `Ok` is 0; every failure class has its own code.
-#[repr(C)]
-#[allow(non_camel_case_types)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum UvfStatus {
-    /// Success.
-    UVF_OK = 0,
-    /// A pointer, count, option or index given by the caller is invalid.
-    UVF_INVALID_ARGUMENT = 1,
-    /// The mesh data is invalid: bad index, non-finite coordinate, degenerate, duplicate or
-    /// non-manifold triangles, inconsistent orientation, empty mesh.
-    UVF_INVALID_MESH = 2,
-    /// The mesh is valid but its topology does not suit the method (for example not a disk).
-    UVF_UNSUPPORTED_TOPOLOGY = 3,
-    /// The linear system or optimisation failed numerically.
-    UVF_NUMERICAL_FAILURE = 4,
-    /// The progress callback asked to stop.
-    UVF_CANCELLED = 5,
-    /// The method exists in the API but is not implemented yet.
-    UVF_NOT_IMPLEMENTED = 6,
-    /// A bug in uvflat (a caught panic) or an allocation failure.
-    UVF_INTERNAL_ERROR = 7,
-    /// Reading or writing a file failed.
-    UVF_IO_ERROR = 8,
-}
 
 /// Every failure of the library.
 #[derive(Debug, Clone, PartialEq)]
@@ -59,6 +33,9 @@ pub enum Error {
     NonManifoldVertex { vertex: u32, fans: usize },
     /// Two neighbouring triangles traverse their shared edge in the same direction.
     InconsistentOrientation { a: u32, b: u32, first: usize, second: usize },
+    /// A polygon of a polygon mesh is invalid, or a triangle cut from it is (the inner error
+    /// numbers triangles after triangulation; `face` is the input polygon).
+    InvalidFace { face: usize, problem: Box<Error> },
     /// The method needs a topological disk (or a disk with holes) and the mesh is not one.
     NotADisk { components: usize, boundary_loops: usize, genus: i64 },
     /// The method needs a closed genus-0 surface (spherical parameterization) and the mesh is
@@ -80,31 +57,6 @@ pub enum Error {
 
 /// Result alias used throughout the crate.
 pub type Result<T> = std::result::Result<T, Error>;
-
-impl Error {
-    /// The C status code of this error.
-    pub fn status(&self) -> UvfStatus {
-        use Error::*;
-        match self {
-            InvalidArgument(_) | SizeOverflow { .. } | BadArrayLength { .. } => UvfStatus::UVF_INVALID_ARGUMENT,
-            EmptyMesh
-            | IndexOutOfRange { .. }
-            | NonFiniteCoordinate { .. }
-            | RepeatedVertex { .. }
-            | DegenerateTriangle { .. }
-            | DuplicateTriangle { .. }
-            | NonManifoldEdge { .. }
-            | NonManifoldVertex { .. }
-            | InconsistentOrientation { .. } => UvfStatus::UVF_INVALID_MESH,
-            NotADisk { .. } | NotASphere { .. } | MultipleComponents { .. } => UvfStatus::UVF_UNSUPPORTED_TOPOLOGY,
-            Numerical(_) => UvfStatus::UVF_NUMERICAL_FAILURE,
-            Cancelled => UvfStatus::UVF_CANCELLED,
-            NotImplemented(_) => UvfStatus::UVF_NOT_IMPLEMENTED,
-            Internal(_) => UvfStatus::UVF_INTERNAL_ERROR,
-            Io { .. } => UvfStatus::UVF_IO_ERROR,
-        }
-    }
-}
 
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -146,6 +98,7 @@ impl fmt::Display for Error {
                 f,
                 "vertex {vertex} is non-manifold: its triangles form {fans} separate fans"
             ),
+            InvalidFace { face, problem } => write!(f, "face {face}: {problem}"),
             InconsistentOrientation { a, b, first, second } => write!(
                 f,
                 "triangles {first} and {second} are inconsistently oriented: both traverse edge ({a}, {b}) in the same direction"

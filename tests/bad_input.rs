@@ -27,7 +27,7 @@ use uvflat::capi::methods::{
     UVF_BOUNDARY_GIVEN, UVF_WEIGHTS_INTRINSIC,
 };
 use uvflat::capi::metrics::{uvf_metrics, UvfMetrics};
-use uvflat::error::UvfStatus::{self, *};
+use uvflat::capi::UvfStatus::{self, *};
 
 #[path = "common/meshes.rs"]
 mod meshes;
@@ -147,6 +147,7 @@ impl Args {
 /// `uvf_mesh_info`, checking that `info_out` is untouched on failure.
 fn info(a: Args) -> (Outcome, UvfMeshInfo) {
     let sentinel = UvfMeshInfo {
+        struct_size: std::mem::size_of::<UvfMeshInfo>(),
         vertices: 0xdead,
         referenced_vertices: 0xdead,
         triangles: 0xdead,
@@ -207,6 +208,7 @@ fn fixed(a: Args, options: Option<&UvfFixedBoundaryOptions>) -> (Outcome, Vec<f6
 fn metrics(a: Args, uv: *const f64, uv_count: usize, uv_triangles: *const u32) -> (Outcome, UvfMetrics) {
     let bits = f64::from_bits(SENTINEL);
     let sentinel = UvfMetrics {
+        struct_size: std::mem::size_of::<UvfMetrics>(),
         triangles: 0xdead,
         flipped: 0xdead,
         degenerate_uv: 0xdead,
@@ -611,7 +613,7 @@ fn class_null_pointer() -> Messages {
         )
     };
     let o = Outcome { status, message: last_message() };
-    assert_outcome("NULL out (uvf_metrics)", &o, UVF_INVALID_ARGUMENT, &["out (UvfMetrics*) is NULL"]);
+    assert_outcome("NULL out (uvf_metrics)", &o, UVF_INVALID_ARGUMENT, &["out is NULL"]);
     out.push(("NULL pointer", o.message));
     // A given boundary with NULL arrays.
     let options = UvfFixedBoundaryOptions { boundary: UVF_BOUNDARY_GIVEN, given_count: 12, ..Default::default() };

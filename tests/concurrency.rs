@@ -8,7 +8,7 @@ use std::ffi::CStr;
 use uvflat::capi::errors::uvf_last_error_message;
 use uvflat::capi::methods::{uvf_fixed_boundary_map, uvf_natural_conformal_map};
 use uvflat::capi::metrics::{uvf_metrics, UvfMetrics};
-use uvflat::error::UvfStatus;
+use uvflat::capi::UvfStatus;
 
 const MESHES: [&str; 4] = ["disk_cat_head", "disk_nefertiti_small", "disk_three_peaks", "disk_mushroom"];
 
@@ -32,7 +32,9 @@ fn run_all(positions: &[f64], triangles: &[u32]) -> Vec<u64> {
             uv.as_mut_ptr(),
         );
         assert_eq!(s, UvfStatus::UVF_OK);
-        let mut m = std::mem::MaybeUninit::<UvfMetrics>::uninit();
+        let mut m = std::mem::MaybeUninit::<UvfMetrics>::zeroed();
+        // SAFETY: a writable UvfMetrics; the library reads its size and writes the rest.
+        (*m.as_mut_ptr()).struct_size = std::mem::size_of::<UvfMetrics>();
         let s = uvf_metrics(
             positions.as_ptr(),
             nv,

@@ -7,7 +7,9 @@
 //! On each, a C99 program is built with `pkg-config --cflags --libs uvflat` (shared: it must start
 //! through the rpath the .pc file records) and `uvflat-static` (it must not need libuvflat.so),
 //! and a CMake project with `find_package(uvflat)` builds a shared and a static program; all run.
-//! Needs pkg-config, cmake and readelf (scripts/test.sh installs them); skipped without them, or
+//! The static library exports only `uvf_*` symbols (`nm`), and links into one program with a
+//! second Rust static library.
+//! Needs pkg-config, cmake and binutils (scripts/test.sh installs them); skipped without them, or
 //! without `UVFLAT_DIST` for the SDK, except under CI (`CI=true`).
 
 #[path = "common/compiler.rs"]
@@ -32,9 +34,16 @@ fn present(found: bool, what: &str, hint: &str) -> bool {
 }
 
 fn tools_present() -> bool {
-    ["pkg-config", "cmake", "readelf"].iter().all(|tool| {
+    ["pkg-config", "cmake", "readelf", "nm", "ld", "objcopy"].iter().all(|tool| {
         let found = Command::new(tool).arg("--version").output().is_ok_and(|o| o.status.success());
-        present(found, tool, &format!("apt-get install {}", if *tool == "readelf" { "binutils" } else { tool }))
+        present(
+            found,
+            tool,
+            &format!(
+                "apt-get install {}",
+                if ["readelf", "nm", "ld", "objcopy"].contains(tool) { "binutils" } else { tool }
+            ),
+        )
     })
 }
 
@@ -83,9 +92,11 @@ fn check_prefix(prefix: &Path, build: &Path) {
         cc.arg(Path::new(ROOT).join("tests/install/hello.c")).arg("-o").arg(&exe).args(pkg_config(prefix, package));
         compiler::run(cc).unwrap_or_else(|e| panic!("{e}"));
         run_hello(&exe);
-        let needs_library = dynamic_entries(&exe).contains("[libuvflat.so.0]");
-        assert_eq!(needs_library, shared, "{package}: NEEDED libuvflat.so.0 = {needs_library}");
+        let needs_library = dynamic_entries(&exe).contains(&format!("[{}]", compiler::soname()));
+        assert_eq!(needs_library, shared, "{package}: NEEDED {} = {needs_library}", compiler::soname());
     }
+
+    check_static_archive(prefix, build);
 
     let cmake_build = build.join("cmake");
     let mut configure = Command::new("cmake");
@@ -101,6 +112,37 @@ fn check_prefix(prefix: &Path, build: &Path) {
 }
 
 /// Every file (not folder) under `dir`, relative to it, sorted.
+/// The installed `libuvflat.a` exports only `uvf_*` symbols, and a C program links it together
+/// with a second Rust static library (its own Rust runtime) and runs.
+fn check_static_archive(prefix: &Path, build: &Path) {
+    let archive = prefix.join("lib/libuvflat.a");
+    let symbols = compiler::run({
+        let mut nm = Command::new("nm");
+        nm.args(["-g", "--defined-only"]).arg(&archive);
+        nm
+    })
+    .unwrap_or_else(|e| panic!("{e}"));
+    let globals: Vec<&str> = symbols.lines().filter_map(|l| l.split_whitespace().nth(2)).collect();
+    let foreign: Vec<&&str> = globals.iter().filter(|s| !s.starts_with("uvf_")).take(10).collect();
+    assert!(foreign.is_empty(), "libuvflat.a exports non-uvf symbols: {foreign:?}");
+    let header = std::fs::read_to_string(Path::new(ROOT).join("include/uvflat.h")).expect("header");
+    let declared = header.lines().filter(|l| l.contains(" uvf_") && l.contains('(') && !l.starts_with(' ')).count();
+    assert!(globals.len() >= declared && declared > 50, "{} exports for {declared} header functions", globals.len());
+
+    let other = build.join("libother_rust.a");
+    let mut rustc = Command::new(std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into()));
+    rustc.args(["--crate-type", "staticlib", "--edition", "2021", "-O", "--crate-name", "other_rust", "-o"]);
+    rustc.arg(&other).arg(Path::new(ROOT).join("tests/install/other_rust/lib.rs"));
+    compiler::run(rustc).unwrap_or_else(|e| panic!("{e}"));
+    let exe = build.join("two_rust_libraries");
+    let mut cc = compiler::compiler(false, "c99");
+    cc.arg(Path::new(ROOT).join("tests/install/two_rust_libraries.c")).arg("-o").arg(&exe);
+    cc.args(pkg_config(prefix, "uvflat-static")).arg(&other).args(["-lpthread", "-ldl", "-lm"]);
+    compiler::run(cc).unwrap_or_else(|e| panic!("linking libuvflat.a with a second Rust library: {e}"));
+    let out = compiler::run(Command::new(&exe)).unwrap_or_else(|e| panic!("{e}"));
+    assert!(out.contains("and another Rust library ok"), "{out}");
+}
+
 fn files_under(dir: &Path) -> Vec<String> {
     let mut found = Vec::new();
     let mut stack = vec![dir.to_path_buf()];
@@ -136,7 +178,7 @@ fn install_sh_staged_with_destdir_builds_runs_and_uninstalls() {
         "include/uvflat.h",
         "include/uvflat.hpp",
         "lib/libuvflat.so",
-        "lib/libuvflat.so.0",
+        format!("lib/{}", compiler::soname()).as_str(),
         "lib/libuvflat.a",
         "lib/pkgconfig/uvflat.pc",
         "lib/pkgconfig/uvflat-static.pc",
@@ -177,7 +219,7 @@ fn sdk_tarball_unpacked_anywhere_builds_and_runs() {
     let sdk = scratch.join(&name);
     let version = env!("CARGO_PKG_VERSION");
     let library = sdk.join(format!("lib/libuvflat.so.{version}"));
-    assert!(dynamic_entries(&library).contains("Library soname: [libuvflat.so.0]"));
+    assert!(dynamic_entries(&library).contains(&format!("Library soname: [{}]", compiler::soname())));
     let sections = compiler::run({
         let mut c = Command::new("readelf");
         c.arg("-S").arg(&library);

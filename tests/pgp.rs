@@ -115,7 +115,7 @@ fn invalid_curvature_neighbourhoods_are_rejected() {
     let mesh = mesh_of(&surfaces::icosphere(1.0, 1));
     for n in [Neighbourhood::Rings(0), Neighbourhood::Radius(0.0), Neighbourhood::Radius(f64::NAN)] {
         let e = principal_curvatures(&mesh, &CurvatureOptions { neighbourhood: n }).unwrap_err();
-        assert_eq!(e.status(), uvflat::error::UvfStatus::UVF_INVALID_ARGUMENT, "{n:?}");
+        assert_eq!(uvflat::capi::status_of(&e), uvflat::capi::UvfStatus::UVF_INVALID_ARGUMENT, "{n:?}");
     }
 }
 

@@ -55,6 +55,14 @@ private:
 
 namespace detail {
 
+/// A report or info struct for the library to write into: zeroed, with its `struct_size` set
+/// (the library writes only that many bytes of it).
+template <class T> T sized() {
+    T value{};
+    value.struct_size = sizeof(T);
+    return value;
+}
+
 inline void check(UvfStatus status) {
     if (status != UVF_OK) throw Error(status, uvf_last_error_message());
 }
@@ -159,11 +167,24 @@ void check_optional_size(const std::vector<T> &values, std::size_t count, std::s
 
 } // namespace detail
 
-/// Library version string, e.g. "0.1.0".
+/// Library version string, e.g. "1.0.0".
 inline std::string version() { return uvf_version(); }
 
 /// ABI version of the loaded library; equal to the header's UVF_ABI_VERSION when they match.
 inline std::uint32_t abi_version() { return uvf_abi_version(); }
+
+/// Library version as major * 10000 + minor * 100 + patch (the header's UVF_VERSION_NUMBER).
+inline std::uint32_t version_number() { return uvf_version_number(); }
+
+/// A short description of a status code ("invalid mesh").
+inline std::string status_string(UvfStatus status) { return uvf_status_string(status); }
+
+/// Number of worker threads the library computes on (0: one per core or RAYON_NUM_THREADS).
+/// Call it before any other uvflat call; afterwards it throws (the workers exist).
+inline void set_thread_count(std::uint32_t count) { detail::check(uvf_set_thread_count(count)); }
+
+/// Number of worker threads the library computes on.
+inline std::uint32_t thread_count() { return uvf_thread_count(); }
 
 /// Barycentric weights of `fixed_boundary_map` (UVF_WEIGHTS_*).
 enum class Weights : std::uint32_t {
@@ -236,7 +257,7 @@ std::vector<double> run_reported(Method method, COptions &o, const std::function
     progress.install(o);
     const std::size_t nv = count_of(positions, 3, "positions");
     std::vector<double> uv(2 * nv);
-    Report r{};
+    Report r = detail::sized<Report>();
     progress.finish(method(positions.data(), nv, triangles.data(), count_of(triangles, "triangles"), &o, uv.data(), &r));
     if (report) *report = r;
     return uv;
@@ -247,7 +268,7 @@ std::vector<double> run_reported(Method method, COptions &o, const std::function
 /// Topology of a mesh (validates it; throws on invalid meshes).
 inline UvfMeshInfo mesh_info(const double *positions, std::size_t vertex_count, const std::uint32_t *triangles,
                              std::size_t triangle_count) {
-    UvfMeshInfo info{};
+    UvfMeshInfo info = detail::sized<UvfMeshInfo>();
     detail::check(uvf_mesh_info(positions, vertex_count, triangles, triangle_count, &info));
     return info;
 }
@@ -515,7 +536,7 @@ inline std::vector<double> boundary_optimized_map(const std::vector<double> &pos
     std::vector<double> uv(2 * nv);
     // The history has at most one entry per iteration and the start.
     std::vector<double> energies(history ? std::size_t(options.iterations) + 1 : 0);
-    UvfBoundaryOptimizationReport r{};
+    UvfBoundaryOptimizationReport r = detail::sized<UvfBoundaryOptimizationReport>();
     progress.finish(uvf_boundary_optimized_map(positions.data(), nv, triangles.data(),
                                                detail::count_of(triangles, "triangles"), &o, uv.data(),
                                                energies.empty() ? nullptr : energies.data(), energies.size(), &r));
@@ -693,7 +714,7 @@ inline std::vector<double> circle_pattern_cone_map(const std::vector<double> &po
     progress.install(o);
     const std::size_t nt = detail::count_of(triangles, "triangles");
     std::vector<double> corner_uv(6 * nt);
-    UvfCirclePatternReport r{};
+    UvfCirclePatternReport r = detail::sized<UvfCirclePatternReport>();
     progress.finish(uvf_circle_pattern_cone_map(positions.data(), detail::count_of(positions, 3, "positions"),
                                                 triangles.data(), nt, vertices.data(), curvatures.data(),
                                                 cones.size(), &o, corner_uv.data(), &r));
@@ -792,7 +813,7 @@ class QuadMesh {
 
     /// Vertex, face, index and quad counts.
     UvfQuadMeshInfo info() const {
-        UvfQuadMeshInfo i{};
+        UvfQuadMeshInfo i = detail::sized<UvfQuadMeshInfo>();
         detail::check(uvf_quad_mesh_info(handle_.get(), &i));
         return i;
     }
@@ -821,7 +842,7 @@ class ChartLayout {
     explicit ChartLayout(UvfChartLayout *handle) noexcept : handle_(handle) {}
 
     UvfChartLayoutInfo info() const {
-        UvfChartLayoutInfo i{};
+        UvfChartLayoutInfo i = detail::sized<UvfChartLayoutInfo>();
         detail::check(uvf_chart_layout_info(handle_.get(), &i));
         return i;
     }
@@ -878,7 +899,7 @@ class PgpCharts {
     explicit PgpCharts(UvfPgpCharts *handle) noexcept : handle_(handle) {}
 
     UvfPgpChartsInfo info() const {
-        UvfPgpChartsInfo i{};
+        UvfPgpChartsInfo i = detail::sized<UvfPgpChartsInfo>();
         detail::check(uvf_pgp_charts_info(handle_.get(), &i));
         return i;
     }
@@ -1025,7 +1046,7 @@ class Pgp {
 
     /// Counts, ω, the index sum and the quality figures.
     UvfPgpInfo info() const {
-        UvfPgpInfo i{};
+        UvfPgpInfo i = detail::sized<UvfPgpInfo>();
         detail::check(uvf_pgp_info(handle_.get(), &i));
         return i;
     }
@@ -1115,7 +1136,7 @@ struct QuadCoverOptions {
 struct QuadCoverMap {
     std::vector<double> corner_uv;
     std::vector<std::int32_t> cone_index;
-    UvfQuadCoverReport report{};
+    UvfQuadCoverReport report = detail::sized<UvfQuadCoverReport>();
 };
 
 namespace detail {
@@ -1168,7 +1189,7 @@ inline QuadMesh quadcover_quad_mesh(const std::vector<double> &positions, const 
     progress.callback = &options.progress;
     progress.install(o);
     UvfQuadMesh *handle = nullptr;
-    UvfQuadCoverReport r{};
+    UvfQuadCoverReport r = detail::sized<UvfQuadCoverReport>();
     const UvfStatus status = uvf_quadcover_quad_mesh(positions.data(), detail::count_of(positions, 3, "positions"),
                                                      triangles.data(), nt, &o,
                                                      options.field.empty() ? nullptr : options.field.data(), density,
@@ -1239,7 +1260,7 @@ class Atlas {
 
     /// Sizes, utilization and stretch.
     UvfAtlasInfo info() const {
-        UvfAtlasInfo i{};
+        UvfAtlasInfo i = detail::sized<UvfAtlasInfo>();
         detail::check(uvf_atlas_info(handle_.get(), &i));
         return i;
     }
@@ -1314,8 +1335,7 @@ class Unwrap {
 
     /// What the unwrap did: islands, repairs, seams, verified flips and overlaps (0), stretch.
     UvfUnwrapReport report() const {
-        UvfUnwrapReport r{};
-        r.struct_size = sizeof r;
+        UvfUnwrapReport r = detail::sized<UvfUnwrapReport>();
         detail::check(uvf_unwrap_report(handle_.get(), &r));
         return r;
     }
@@ -1327,7 +1347,7 @@ class Unwrap {
     }
     /// The UV vertex of every corner: 3 indices into `uv()` per input triangle.
     std::vector<std::uint32_t> uv_triangles() const {
-        UvfAtlasInfo i{};
+        UvfAtlasInfo i = detail::sized<UvfAtlasInfo>();
         detail::check(uvf_atlas_info(layout(), &i));
         std::vector<std::uint32_t> out(3 * i.triangle_count);
         detail::check(uvf_atlas_copy_triangles(layout(), out.data(), out.size()));
@@ -1335,7 +1355,7 @@ class Unwrap {
     }
     /// The island of every input triangle, in [0, islands).
     std::vector<std::uint32_t> island_of_triangle() const {
-        UvfAtlasInfo i{};
+        UvfAtlasInfo i = detail::sized<UvfAtlasInfo>();
         detail::check(uvf_atlas_info(layout(), &i));
         std::vector<std::uint32_t> out(i.triangle_count);
         detail::check(uvf_atlas_copy_charts(layout(), out.data(), out.size()));
@@ -1366,7 +1386,7 @@ class Unwrap {
 /// Distortion of per-vertex UVs (2 doubles per vertex).
 inline UvfMetrics metrics(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
                           const std::vector<double> &uv) {
-    UvfMetrics m{};
+    UvfMetrics m = detail::sized<UvfMetrics>();
     detail::check(uvf_metrics(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
                               detail::count_of(triangles, "triangles"), uv.data(), detail::count_of(uv, 2, "uv"),
                               nullptr, &m));
@@ -1379,7 +1399,7 @@ inline UvfMetrics metrics(const std::vector<double> &positions, const std::vecto
     if (uv_triangles.size() != triangles.size()) {
         throw Error(UVF_INVALID_ARGUMENT, "uv_triangles must have as many entries as triangles");
     }
-    UvfMetrics m{};
+    UvfMetrics m = detail::sized<UvfMetrics>();
     detail::check(uvf_metrics(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
                               detail::count_of(triangles, "triangles"), uv.data(), detail::count_of(uv, 2, "uv"),
                               uv_triangles.data(), &m));
@@ -1412,7 +1432,7 @@ class Cut {
     ~Cut() { uvf_cut_free(handle_); }
 
     UvfCutInfo info() const {
-        UvfCutInfo i{};
+        UvfCutInfo i = detail::sized<UvfCutInfo>();
         detail::check(uvf_cut_info(handle_, &i));
         return i;
     }

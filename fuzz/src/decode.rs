@@ -33,7 +33,7 @@ use uvflat::capi::methods::{
     UVF_BOUNDARY_GIVEN,
 };
 use uvflat::capi::metrics::{uvf_metrics, UvfMetrics};
-use uvflat::error::UvfStatus;
+use uvflat::capi::UvfStatus;
 
 /// The fuzz targets; each name is a binary in `fuzz/fuzz_targets/` and a folder in
 /// `fuzz/regressions/` and `fuzz/corpus/`.

@@ -1,7 +1,10 @@
 //! C ABI of ABF / ABF++ (`methods::abf`).
 
-use super::{guard, mesh_from_raw, progress_closure, read_options, write_uv, UvfProgressFn};
-use crate::error::{Error, UvfStatus};
+use super::status::UvfStatus;
+use super::MeshSource;
+use super::SizedOut;
+use super::{guard, progress_closure, read_options, write_uv, UvfProgressFn};
+use crate::error::Error;
 use crate::methods::abf::{abf_with_progress, AbfOptions, AbfVariant, AbfWeights};
 use crate::progress::Progress;
 use std::os::raw::c_void;
@@ -72,6 +75,9 @@ impl Default for UvfAbfOptions {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfAbfReport {
+    /// `sizeof(UvfAbfReport)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Iterations taken.
     pub iterations: u32,
     /// 1 when `gradient_norm <= tolerance`, else 0 (the UVs are still returned).
@@ -126,7 +132,39 @@ pub unsafe extern "C" fn uvf_abf(
     uv_out: *mut f64,
     report_out: *mut UvfAbfReport,
 ) -> UvfStatus {
+    unsafe {
+        abf_from(MeshSource::arrays(positions, vertex_count, triangles, triangle_count), options, uv_out, report_out)
+    }
+}
+
+/// `uvf_abf` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_abf`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_abf(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfAbfOptions,
+    uv_out: *mut f64,
+    report_out: *mut UvfAbfReport,
+) -> UvfStatus {
+    unsafe { abf_from(MeshSource::Handle(mesh), options, uv_out, report_out) }
+}
+
+/// `uvf_abf` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_abf`.
+unsafe fn abf_from(
+    source: MeshSource,
+    options: *const UvfAbfOptions,
+    uv_out: *mut f64,
+    report_out: *mut UvfAbfReport,
+) -> UvfStatus {
     guard(|| {
+        // Checked before the work, so that a bad report pointer leaves every output untouched.
+        let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfAbfReport") }?;
         let o = read_options(options, UvfAbfOptions::default(), ABF_OPTIONS_V1, "UvfAbfOptions")?;
         let variant = match o.variant {
             UVF_ABF_VARIANT_ABF => AbfVariant::Abf,
@@ -149,14 +187,14 @@ pub unsafe extern "C" fn uvf_abf(
             barrier: o.barrier,
             ..AbfOptions::default()
         };
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let result = abf_with_progress(&mesh, &options, &mut Progress::new(&mut callback))?;
         write_uv(&result.uv, uv_out)?;
-        if !report_out.is_null() {
+        if let Some(report_out) = &report_out {
             let r = result.report;
-            // SAFETY: non-null, and the caller promises a writable UvfAbfReport.
             report_out.write(UvfAbfReport {
+                struct_size: 0,
                 iterations: r.iterations,
                 converged: r.converged as u32,
                 gradient_norm: r.gradient_norm,

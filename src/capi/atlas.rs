@@ -1,9 +1,12 @@
 //! Atlas mode through the C ABI: `uvf_atlas` computes charts under a stretch bound, flattens and
 //! packs them, and returns a result handle read with the `uvf_atlas_*` accessors.
 
-use super::{borrow_slice_mut, copy_out, guard, mesh_from_raw, progress_closure, read_options, UvfProgressFn};
+use super::status::UvfStatus;
+use super::MeshSource;
+use super::SizedOut;
+use super::{borrow_slice_mut, copy_out, guard, progress_closure, read_options, UvfProgressFn};
 use crate::atlas::{atlas_with_progress, Atlas, AtlasOptions, ChartMethod};
-use crate::error::{Error, Result, UvfStatus};
+use crate::error::{Error, Result};
 use crate::progress::Progress;
 use std::os::raw::c_void;
 
@@ -70,6 +73,9 @@ impl Default for UvfAtlasOptions {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfAtlasInfo {
+    /// `sizeof(UvfAtlasInfo)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Atlas (UV) vertices: one per chart vertex.
     pub vertex_count: usize,
     /// Triangles (the input's, same order).
@@ -95,6 +101,7 @@ impl UvfAtlas {
     /// The handle's contents for a computed atlas.
     pub(crate) fn new(atlas: Atlas) -> Self {
         let info = UvfAtlasInfo {
+            struct_size: 0,
             vertex_count: atlas.uv.len(),
             triangle_count: atlas.triangles.len(),
             chart_count: atlas.charts.len(),
@@ -144,6 +151,28 @@ pub unsafe extern "C" fn uvf_atlas(
     options: *const UvfAtlasOptions,
     atlas_out: *mut *mut UvfAtlas,
 ) -> UvfStatus {
+    unsafe { atlas_from(MeshSource::arrays(positions, vertex_count, triangles, triangle_count), options, atlas_out) }
+}
+
+/// `uvf_atlas` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_atlas`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_atlas(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfAtlasOptions,
+    atlas_out: *mut *mut UvfAtlas,
+) -> UvfStatus {
+    unsafe { atlas_from(MeshSource::Handle(mesh), options, atlas_out) }
+}
+
+/// `uvf_atlas` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_atlas`.
+unsafe fn atlas_from(source: MeshSource, options: *const UvfAtlasOptions, atlas_out: *mut *mut UvfAtlas) -> UvfStatus {
     guard(|| {
         let out = borrow_slice_mut(atlas_out, 1, "atlas_out")?;
         let o = read_options(options, UvfAtlasOptions::default(), ATLAS_OPTIONS_V1, "UvfAtlasOptions")?;
@@ -158,7 +187,7 @@ pub unsafe extern "C" fn uvf_atlas(
                 )))
             }
         };
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let options = AtlasOptions {
             max_stretch: o.max_stretch,
             margin: o.margin,
@@ -190,7 +219,7 @@ unsafe fn handle<'a>(atlas: *const UvfAtlas) -> Result<&'a UvfAtlas> {
 pub unsafe extern "C" fn uvf_atlas_info(atlas: *const UvfAtlas, info_out: *mut UvfAtlasInfo) -> UvfStatus {
     guard(|| {
         let a = unsafe { handle(atlas) }?;
-        borrow_slice_mut(info_out, 1, "info_out")?[0] = a.info;
+        unsafe { SizedOut::required(info_out, "info_out", "UvfAtlasInfo") }?.write(a.info);
         Ok(())
     })
 }

@@ -1,10 +1,12 @@
 //! C ABI of the circle-pattern conformal map (`methods::circle_patterns`).
 
+use super::status::UvfStatus;
+use super::SizedOut;
 use super::{
     borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv,
     UvfProgressFn,
 };
-use crate::error::{Error, UvfStatus};
+use crate::error::Error;
 use crate::methods::circle_patterns::{
     circle_pattern_cone_map, circle_pattern_map, polygon_boundary_curvature, CirclePatternOptions, CirclePatternReport,
 };
@@ -75,6 +77,9 @@ impl Default for UvfCirclePatternOptions {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfCirclePatternReport {
+    /// `sizeof(UvfCirclePatternReport)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Iterations of the angle program: primal–dual steps, plus the log-barrier Newton steps
     /// where it fell back.
     pub angle_iterations: u32,
@@ -144,6 +149,8 @@ pub unsafe extern "C" fn uvf_circle_pattern_map(
     report_out: *mut UvfCirclePatternReport,
 ) -> UvfStatus {
     guard(|| {
+        // Checked before the work, so that a bad report pointer leaves every output untouched.
+        let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfCirclePatternReport") }?;
         let (o, opts) = options_from_c(options, vertex_count)?;
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         // Checked before the work so that a bad output pointer leaves everything untouched.
@@ -151,7 +158,7 @@ pub unsafe extern "C" fn uvf_circle_pattern_map(
         let mut callback = progress_closure(o.progress, o.progress_user);
         let result = circle_pattern_map(&mesh, &opts, &mut Progress::new(&mut callback))?;
         write_uv(&result.uv, uv_out)?;
-        write_report(&result.report, report_out);
+        write_report(&result.report, report_out.as_ref());
         Ok(())
     })
 }
@@ -195,15 +202,12 @@ unsafe fn options_from_c(
     Ok((o, opts))
 }
 
-/// Writes `report` to `report_out` unless it is NULL.
-///
-/// # Safety
-/// `report_out` must be NULL or writable.
-unsafe fn write_report(report: &CirclePatternReport, report_out: *mut UvfCirclePatternReport) {
-    if !report_out.is_null() {
+/// Writes `report` when the caller asked for it.
+fn write_report(report: &CirclePatternReport, report_out: Option<&SizedOut<UvfCirclePatternReport>>) {
+    if let Some(report_out) = report_out {
         let r = report;
-        // SAFETY: non-null, and the caller promises a writable UvfCirclePatternReport.
         report_out.write(UvfCirclePatternReport {
+            struct_size: 0,
             angle_iterations: r.angle_iterations,
             radius_iterations: r.radius_iterations,
             closure_error: r.closure_error,
@@ -250,6 +254,8 @@ pub unsafe extern "C" fn uvf_circle_pattern_cone_map(
     report_out: *mut UvfCirclePatternReport,
 ) -> UvfStatus {
     guard(|| {
+        // Checked before the work, so that a bad report pointer leaves every output untouched.
+        let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfCirclePatternReport") }?;
         let (o, opts) = options_from_c(options, vertex_count)?;
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         let vertices = borrow_slice(cone_vertices, cone_count, "cone_vertices")?;
@@ -261,7 +267,7 @@ pub unsafe extern "C" fn uvf_circle_pattern_cone_map(
         for (slot, value) in out.iter_mut().zip(result.corner_uv.iter().flatten().flatten()) {
             *slot = *value;
         }
-        write_report(&result.report, report_out);
+        write_report(&result.report, report_out.as_ref());
         Ok(())
     })
 }

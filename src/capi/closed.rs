@@ -1,11 +1,13 @@
 //! Closed and higher-genus surfaces: cutting a mesh into a disk (result handle with accessors)
 //! and spherical parameterization of closed genus-0 meshes.
 
+use super::status::UvfStatus;
+use super::SizedOut;
 use super::{
     borrow_slice, borrow_slice_mut, checked_count, copy_out, guard, mesh_from_raw, progress_closure, read_options,
     UvfProgressFn,
 };
-use crate::error::{Error, Result, UvfStatus};
+use crate::error::{Error, Result};
 use crate::mesh::cut::{cut_to_disk, total_edge_length, Cut, EdgeCost};
 use crate::methods::sphere::{spherical_map_with_progress, SphereMethod, SphereOptions};
 use crate::progress::Progress;
@@ -46,6 +48,9 @@ impl Default for UvfCutOptions {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfCutInfo {
+    /// `sizeof(UvfCutInfo)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Vertices of the cut mesh (input vertices duplicated along the cut; unreferenced input
     /// vertices dropped).
     pub vertex_count: usize,
@@ -117,6 +122,7 @@ pub unsafe extern "C" fn uvf_cut_to_disk(
         };
         let cut = cut_to_disk(&mesh, &cost)?;
         let info = UvfCutInfo {
+            struct_size: 0,
             vertex_count: cut.original.len(),
             triangle_count: cut.triangles.len(),
             edge_count: cut.edges.len(),
@@ -142,7 +148,7 @@ unsafe fn handle<'a>(cut: *const UvfCut) -> Result<&'a UvfCut> {
 pub unsafe extern "C" fn uvf_cut_info(cut: *const UvfCut, info_out: *mut UvfCutInfo) -> UvfStatus {
     guard(|| {
         let c = unsafe { handle(cut) }?;
-        borrow_slice_mut(info_out, 1, "info_out")?[0] = c.info;
+        unsafe { SizedOut::required(info_out, "info_out", "UvfCutInfo") }?.write(c.info);
         Ok(())
     })
 }

@@ -1,7 +1,8 @@
 //! C ABI of the automatic cone placement (`methods::cone_placement`).
 
+use super::status::UvfStatus;
 use super::{borrow_slice_mut, guard, mesh_from_raw, progress_closure, read_options, UvfProgressFn};
-use crate::error::{Error, UvfStatus};
+use crate::error::Error;
 use crate::methods::cone_placement::{place_cones, ConePlacementOptions};
 use crate::progress::Progress;
 use std::os::raw::c_void;

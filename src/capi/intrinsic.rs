@@ -5,11 +5,13 @@
 use super::methods::{
     distribution_from_code, shape_from_parts, UvfFixedBoundaryOptions, UVF_BOUNDARY_CIRCLE, UVF_DISTRIBUTION_CHORD,
 };
+use super::status::UvfStatus;
+use super::SizedOut;
 use super::{
     borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv,
     UvfProgressFn,
 };
-use crate::error::{Error, Result, UvfStatus};
+use crate::error::{Error, Result};
 use crate::methods::boundary_optimization::{boundary_optimized_map, BoundaryOptimizationOptions};
 use crate::methods::constraints::{
     constrained_fixed_boundary_map, constrained_natural_conformal_map, pinned_natural_conformal_map, PointConstraint,
@@ -371,6 +373,9 @@ impl Default for UvfSpectralOptions {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfSpectralReport {
+    /// `sizeof(UvfSpectralReport)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Inverse iterations done.
     pub iterations: u32,
     /// 1 when the backward error reached the tolerance, 0 when the iteration limit stopped.
@@ -421,6 +426,8 @@ pub unsafe extern "C" fn uvf_spectral_conformal_map(
     report_out: *mut UvfSpectralReport,
 ) -> UvfStatus {
     guard(|| {
+        // Checked before the work, so that a bad report pointer leaves every output untouched.
+        let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfSpectralReport") }?;
         let o = read_options(options, UvfSpectralOptions::default(), SPECTRAL_OPTIONS_V1, "UvfSpectralOptions")?;
         let opts = SpectralOptions { iterations: o.iterations as usize, tolerance: o.tolerance };
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
@@ -429,16 +436,14 @@ pub unsafe extern "C" fn uvf_spectral_conformal_map(
         let mut callback = progress_closure(o.progress, o.progress_user);
         let r = spectral_conformal_map(&mesh, &opts, &mut Progress::new(&mut callback))?;
         write_uv(&r.uv, uv_out)?;
-        if !report_out.is_null() {
-            // SAFETY: the caller passes NULL or a writable report.
-            unsafe {
-                report_out.write(UvfSpectralReport {
-                    iterations: r.iterations as u32,
-                    converged: u32::from(r.converged),
-                    eigenvalue: r.eigenvalue,
-                    residual: r.residual,
-                })
-            };
+        if let Some(report_out) = &report_out {
+            report_out.write(UvfSpectralReport {
+                struct_size: 0,
+                iterations: r.iterations as u32,
+                converged: u32::from(r.converged),
+                eigenvalue: r.eigenvalue,
+                residual: r.residual,
+            });
         }
         Ok(())
     })
@@ -498,6 +503,9 @@ impl Default for UvfIntrinsicOptimalOptions {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfIntrinsicOptimalReport {
+    /// `sizeof(UvfIntrinsicOptimalReport)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// The minimizing λ of `λ·U^A + (1 − λ)·U^χ`.
     pub lambda: f64,
     /// The energy at λ.
@@ -551,6 +559,8 @@ pub unsafe extern "C" fn uvf_intrinsic_optimal_map(
     report_out: *mut UvfIntrinsicOptimalReport,
 ) -> UvfStatus {
     guard(|| {
+        // Checked before the work, so that a bad report pointer leaves every output untouched.
+        let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfIntrinsicOptimalReport") }?;
         let o = read_options(
             options,
             UvfIntrinsicOptimalOptions::default(),
@@ -569,18 +579,16 @@ pub unsafe extern "C" fn uvf_intrinsic_optimal_map(
         let mut callback = progress_closure(o.progress, o.progress_user);
         let r = near_optimal_map(&mesh, &opts, &mut Progress::new(&mut callback))?;
         write_uv(&r.uv, uv_out)?;
-        if !report_out.is_null() {
-            // SAFETY: the caller passes NULL or a writable report.
-            unsafe {
-                report_out.write(UvfIntrinsicOptimalReport {
-                    lambda: r.lambda,
-                    energy: r.energy,
-                    energy_conformal: r.energy_conformal,
-                    energy_authalic: r.energy_authalic,
-                    boundary_scale: r.boundary_scale,
-                    flipped: r.flipped,
-                })
-            };
+        if let Some(report_out) = &report_out {
+            report_out.write(UvfIntrinsicOptimalReport {
+                struct_size: 0,
+                lambda: r.lambda,
+                energy: r.energy,
+                energy_conformal: r.energy_conformal,
+                energy_authalic: r.energy_authalic,
+                boundary_scale: r.boundary_scale,
+                flipped: r.flipped,
+            });
         }
         Ok(())
     })
@@ -647,6 +655,9 @@ impl Default for UvfBoundaryOptimizationOptions {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfBoundaryOptimizationReport {
+    /// `sizeof(UvfBoundaryOptimizationReport)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Accepted iterations.
     pub iterations: u32,
     /// 1 when the tolerance was met or no step could lower the energy; 0 when the iteration
@@ -707,6 +718,8 @@ pub unsafe extern "C" fn uvf_boundary_optimized_map(
     report_out: *mut UvfBoundaryOptimizationReport,
 ) -> UvfStatus {
     guard(|| {
+        // Checked before the work, so that a bad report pointer leaves every output untouched.
+        let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfBoundaryOptimizationReport") }?;
         let o = read_options(
             options,
             UvfBoundaryOptimizationOptions::default(),
@@ -730,19 +743,17 @@ pub unsafe extern "C" fn uvf_boundary_optimized_map(
         write_uv(&r.uv, uv_out)?;
         let written = r.history.len().min(history_capacity);
         borrow_slice_mut(history_out, written, "history_out")?.copy_from_slice(&r.history[..written]);
-        if !report_out.is_null() {
-            // SAFETY: the caller passes NULL or a writable report.
-            unsafe {
-                report_out.write(UvfBoundaryOptimizationReport {
-                    iterations: r.iterations as u32,
-                    converged: u32::from(r.converged),
-                    history_length: r.history.len(),
-                    initial_energy: r.history.first().copied().unwrap_or(f64::NAN),
-                    final_energy: r.history.last().copied().unwrap_or(f64::NAN),
-                    boundary_scale: r.boundary_scale,
-                    flipped: r.flipped,
-                })
-            };
+        if let Some(report_out) = &report_out {
+            report_out.write(UvfBoundaryOptimizationReport {
+                struct_size: 0,
+                iterations: r.iterations as u32,
+                converged: u32::from(r.converged),
+                history_length: r.history.len(),
+                initial_energy: r.history.first().copied().unwrap_or(f64::NAN),
+                final_energy: r.history.last().copied().unwrap_or(f64::NAN),
+                boundary_scale: r.boundary_scale,
+                flipped: r.flipped,
+            });
         }
         Ok(())
     })

@@ -1,12 +1,17 @@
 //! Mesh validation and topology queries.
 
+use super::status::UvfStatus;
+use super::SizedOut;
 use super::{borrow_slice_mut, guard, mesh_from_raw};
-use crate::error::{Error, UvfStatus};
+use crate::error::Error;
 
 /// Counts and topological invariants of a mesh.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfMeshInfo {
+    /// `sizeof(UvfMeshInfo)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Vertices in the input arrays (including unreferenced ones).
     pub vertices: usize,
     /// Vertices used by at least one triangle.
@@ -45,20 +50,9 @@ pub unsafe extern "C" fn uvf_mesh_info(
     info_out: *mut UvfMeshInfo,
 ) -> UvfStatus {
     guard(|| {
-        let out = borrow_slice_mut(info_out, 1, "info_out")?;
+        let out = unsafe { SizedOut::required(info_out, "info_out", "UvfMeshInfo") }?;
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
-        let t = mesh.topology();
-        out[0] = UvfMeshInfo {
-            vertices: t.vertices,
-            referenced_vertices: t.referenced_vertices,
-            triangles: t.triangles,
-            edges: t.edges,
-            components: t.components,
-            boundary_loops: t.boundary_loops,
-            boundary_vertices: mesh.boundary_loops().iter().map(Vec::len).sum(),
-            euler_characteristic: t.euler_characteristic,
-            genus: t.genus,
-        };
+        out.write(info_of(&mesh));
         Ok(())
     })
 }
@@ -125,4 +119,21 @@ pub unsafe extern "C" fn uvf_triangle_components(
         out.copy_from_slice(mesh.triangle_components());
         Ok(())
     })
+}
+
+/// The counts and topology of a validated mesh.
+pub(crate) fn info_of(mesh: &crate::TriMesh) -> UvfMeshInfo {
+    let t = mesh.topology();
+    UvfMeshInfo {
+        struct_size: 0,
+        vertices: t.vertices,
+        referenced_vertices: t.referenced_vertices,
+        triangles: t.triangles,
+        edges: t.edges,
+        components: t.components,
+        boundary_loops: t.boundary_loops,
+        boundary_vertices: mesh.boundary_loops().iter().map(Vec::len).sum(),
+        euler_characteristic: t.euler_characteristic,
+        genus: t.genus,
+    }
 }

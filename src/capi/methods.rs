@@ -1,10 +1,10 @@
 //! Parameterization methods.
 
-use super::{
-    borrow_slice, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv, UvfProgressFn,
-};
+use super::status::UvfStatus;
+use super::MeshSource;
+use super::{borrow_slice, checked_count, guard, progress_closure, read_options, write_uv, UvfProgressFn};
 use crate::boundary::{BoundaryShape, Distribution};
-use crate::error::{Error, Result, UvfStatus};
+use crate::error::{Error, Result};
 use crate::methods::barycentric::{fixed_boundary_map_with_progress, FixedBoundaryOptions, Weights};
 use crate::methods::conformal::natural_conformal_map_with_progress;
 use crate::progress::Progress;
@@ -216,6 +216,34 @@ pub unsafe extern "C" fn uvf_fixed_boundary_map(
     options: *const UvfFixedBoundaryOptions,
     uv_out: *mut f64,
 ) -> UvfStatus {
+    unsafe {
+        fixed_boundary_map_from(MeshSource::arrays(positions, vertex_count, triangles, triangle_count), options, uv_out)
+    }
+}
+
+/// `uvf_fixed_boundary_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_fixed_boundary_map`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_fixed_boundary_map(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfFixedBoundaryOptions,
+    uv_out: *mut f64,
+) -> UvfStatus {
+    unsafe { fixed_boundary_map_from(MeshSource::Handle(mesh), options, uv_out) }
+}
+
+/// `uvf_fixed_boundary_map` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_fixed_boundary_map`.
+unsafe fn fixed_boundary_map_from(
+    source: MeshSource,
+    options: *const UvfFixedBoundaryOptions,
+    uv_out: *mut f64,
+) -> UvfStatus {
     guard(|| {
         let o = read_options(options, UvfFixedBoundaryOptions::default(), FIXED_OPTIONS_V1, "UvfFixedBoundaryOptions")?;
         let opts = FixedBoundaryOptions {
@@ -223,7 +251,7 @@ pub unsafe extern "C" fn uvf_fixed_boundary_map(
             shape: shape_from(&o)?,
             distribution: distribution_from(&o)?,
         };
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let uv = fixed_boundary_map_with_progress(&mesh, &opts, &mut Progress::new(&mut callback))?;
         write_uv(&uv, uv_out)
@@ -247,6 +275,38 @@ pub unsafe extern "C" fn uvf_natural_conformal_map(
     options: *const UvfNaturalConformalOptions,
     uv_out: *mut f64,
 ) -> UvfStatus {
+    unsafe {
+        natural_conformal_map_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            uv_out,
+        )
+    }
+}
+
+/// `uvf_natural_conformal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_natural_conformal_map`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_natural_conformal_map(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfNaturalConformalOptions,
+    uv_out: *mut f64,
+) -> UvfStatus {
+    unsafe { natural_conformal_map_from(MeshSource::Handle(mesh), options, uv_out) }
+}
+
+/// `uvf_natural_conformal_map` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_natural_conformal_map`.
+unsafe fn natural_conformal_map_from(
+    source: MeshSource,
+    options: *const UvfNaturalConformalOptions,
+    uv_out: *mut f64,
+) -> UvfStatus {
     guard(|| {
         let o = read_options(
             options,
@@ -255,7 +315,7 @@ pub unsafe extern "C" fn uvf_natural_conformal_map(
             "UvfNaturalConformalOptions",
         )?;
         let pins = super::pins_from_options(o.pin_count, o.pin_vertices, o.pin_uv)?;
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let uv = natural_conformal_map_with_progress(&mesh, pins, &mut Progress::new(&mut callback))?;
         write_uv(&uv, uv_out)

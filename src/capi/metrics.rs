@@ -1,7 +1,8 @@
 //! C ABI for the distortion measures of [`crate::metrics`] (course notes ch. 4).
 
+use super::status::UvfStatus;
 use super::{borrow_slice, checked_count, guard};
-use crate::error::{Error, UvfStatus};
+use crate::error::Error;
 use crate::metrics::{distortion, Metrics};
 
 /// Distortion summary of a UV map (see `uvf_metrics`). Distortion fields are NaN when no
@@ -9,6 +10,9 @@ use crate::metrics::{distortion, Metrics};
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct UvfMetrics {
+    /// `sizeof(UvfMetrics)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Number of triangles measured.
     pub triangles: usize,
     /// Triangles whose UV orientation is opposite to the layout's majority orientation.
@@ -38,6 +42,7 @@ pub struct UvfMetrics {
 impl From<&Metrics> for UvfMetrics {
     fn from(m: &Metrics) -> Self {
         UvfMetrics {
+            struct_size: 0,
             triangles: m.triangles,
             flipped: m.flipped,
             degenerate_uv: m.degenerate_uv,
@@ -89,9 +94,7 @@ pub unsafe extern "C" fn uvf_metrics(
     out: *mut UvfMetrics,
 ) -> UvfStatus {
     guard(|| {
-        if out.is_null() {
-            return Err(Error::InvalidArgument("out (UvfMetrics*) is NULL".into()));
-        }
+        let out = unsafe { super::SizedOut::required(out, "out", "UvfMetrics") }?;
         let p = borrow_slice(positions, checked_count(vertex_count, 3, "vertex")?, "positions")?;
         let t = borrow_slice(triangles, checked_count(triangle_count, 3, "triangle")?, "triangles")?;
         let q = borrow_slice(uv, checked_count(uv_count, 2, "uv")?, "uv")?;
@@ -107,8 +110,7 @@ pub unsafe extern "C" fn uvf_metrics(
         };
         let tris = as_triangles(t);
         let m = distortion(&as_points::<3>(p), &tris, &as_points::<2>(q), &as_triangles(uv_t))?;
-        // SAFETY: checked non-null above; the caller promises it points to a UvfMetrics.
-        unsafe { out.write(UvfMetrics::from(&m)) };
+        out.write(UvfMetrics::from(&m));
         Ok(())
     })
 }
@@ -117,6 +119,9 @@ pub unsafe extern "C" fn uvf_metrics(
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfLayoutCheck {
+    /// `sizeof(UvfLayoutCheck)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// UV triangles not strictly counter-clockwise (zero area included) or with a non-finite
     /// corner.
     pub flipped: usize,
@@ -149,9 +154,9 @@ pub unsafe extern "C" fn uvf_check_layout(
     guard(|| {
         let uv = borrow_slice(uv, checked_count(uv_count, 2, "uv")?, "uv")?;
         let tris = borrow_slice(uv_triangles, checked_count(triangle_count, 3, "triangle")?, "uv_triangles")?;
-        let out = super::borrow_slice_mut(out, 1, "out")?;
+        let out = unsafe { super::SizedOut::required(out, "out", "UvfLayoutCheck") }?;
         let v = crate::verify::check_layout(&as_points::<2>(uv), &as_triangles(tris));
-        out[0] = UvfLayoutCheck { flipped: v.flipped, overlaps: v.overlaps, islands: v.islands };
+        out.write(UvfLayoutCheck { struct_size: 0, flipped: v.flipped, overlaps: v.overlaps, islands: v.islands });
         Ok(())
     })
 }

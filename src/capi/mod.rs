@@ -14,15 +14,19 @@ pub mod cone_placement;
 pub mod errors;
 pub mod intrinsic;
 pub mod mesh;
+pub mod mesh_handle;
 pub mod methods;
 pub mod metrics;
 pub mod nonlinear;
 pub mod pgp;
 pub mod quadcover;
+pub mod status;
+pub mod threads;
 pub mod unwrap;
 
-use crate::error::{Error, Result, UvfStatus};
+use crate::error::{Error, Result};
 use crate::TriMesh;
+pub use status::{status_of, UvfStatus};
 use std::os::raw::{c_int, c_void};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
@@ -32,7 +36,7 @@ pub type UvfProgressFn = Option<unsafe extern "C" fn(user: *mut c_void, fraction
 
 /// Runs `f`, converting errors and panics into a status and the thread-local message.
 pub(crate) fn guard(f: impl FnOnce() -> Result<()>) -> UvfStatus {
-    let outcome = catch_unwind(AssertUnwindSafe(f));
+    let outcome = errors::in_entry_point(|| catch_unwind(AssertUnwindSafe(f)));
     let result = match outcome {
         Ok(r) => r,
         Err(payload) => {
@@ -51,7 +55,7 @@ pub(crate) fn guard(f: impl FnOnce() -> Result<()>) -> UvfStatus {
         }
         Err(e) => {
             errors::set_last_error(&e);
-            e.status()
+            status::status_of(&e)
         }
     }
 }
@@ -109,6 +113,54 @@ pub(crate) fn mesh_from_raw(
     TriMesh::new(p, t)
 }
 
+/// Where a C call's mesh comes from: flat arrays, validated and built for this call, or a
+/// handle of `uvf_mesh_new`, built once.
+#[derive(Clone, Copy)]
+pub(crate) enum MeshSource {
+    Arrays { positions: *const f64, vertex_count: usize, triangles: *const u32, triangle_count: usize },
+    Handle(*const mesh_handle::UvfMesh),
+}
+
+/// A mesh built for one call, or borrowed from a handle.
+pub(crate) enum MeshRef<'a> {
+    Built(TriMesh),
+    Borrowed(&'a TriMesh),
+}
+
+impl std::ops::Deref for MeshRef<'_> {
+    type Target = TriMesh;
+    fn deref(&self) -> &TriMesh {
+        match self {
+            MeshRef::Built(m) => m,
+            MeshRef::Borrowed(m) => m,
+        }
+    }
+}
+
+impl MeshSource {
+    pub(crate) fn arrays(
+        positions: *const f64,
+        vertex_count: usize,
+        triangles: *const u32,
+        triangle_count: usize,
+    ) -> Self {
+        MeshSource::Arrays { positions, vertex_count, triangles, triangle_count }
+    }
+
+    /// The mesh: validated and built from the arrays, or the handle's.
+    ///
+    /// # Safety
+    /// The arrays must hold the stated counts; a handle must be live or NULL.
+    pub(crate) unsafe fn mesh<'a>(self) -> Result<MeshRef<'a>> {
+        match self {
+            MeshSource::Arrays { positions, vertex_count, triangles, triangle_count } => {
+                mesh_from_raw(positions, vertex_count, triangles, triangle_count).map(MeshRef::Built)
+            }
+            MeshSource::Handle(mesh) => Ok(MeshRef::Borrowed(&unsafe { mesh_handle::handle(mesh) }?.mesh)),
+        }
+    }
+}
+
 /// Reads a versioned options struct: the first field (`struct_size`, a `size_t`) says how many
 /// bytes the caller's struct has; fields beyond it keep their defaults; a struct smaller than
 /// `min_size` (the first released layout) is rejected.
@@ -128,6 +180,66 @@ pub(crate) fn read_options<T: Copy>(ptr: *const T, default: T, min_size: usize, 
     // SAFETY: copying the first `n` bytes the caller declared valid into a defaulted struct.
     unsafe { std::ptr::copy_nonoverlapping(ptr as *const u8, &mut out as *mut T as *mut u8, n) };
     Ok(out)
+}
+
+/// A struct the library writes into (a report or info struct), checked before the work starts.
+/// Its first field, `struct_size`, is set by the caller to the size of the struct as the
+/// caller's header declares it; the library writes only the fields that fit in that many bytes
+/// and never touches `struct_size`, so a program built against an older, shorter struct keeps
+/// working when fields are appended.
+pub(crate) struct SizedOut<T> {
+    ptr: *mut T,
+    size: usize,
+}
+
+impl<T: Copy> SizedOut<T> {
+    /// `ptr` checked: NULL gives `None` (the caller does not want this output).
+    ///
+    /// # Safety
+    /// A non-null `ptr` must point to `(*ptr).struct_size` writable bytes.
+    pub(crate) unsafe fn optional(ptr: *mut T, what: &'static str, type_name: &'static str) -> Result<Option<Self>> {
+        if ptr.is_null() {
+            return Ok(None);
+        }
+        if (ptr as usize) % std::mem::align_of::<T>() != 0 {
+            return Err(Error::InvalidArgument(format!("{what} is not aligned for {type_name}")));
+        }
+        // SAFETY: non-null and aligned; every such struct starts with its size, a size_t.
+        let size = unsafe { (ptr as *const usize).read() };
+        if size <= std::mem::size_of::<usize>() {
+            return Err(Error::InvalidArgument(format!(
+                "{what}->struct_size is {size}: set it to sizeof({type_name}) before the call"
+            )));
+        }
+        Ok(Some(SizedOut { ptr, size }))
+    }
+
+    /// As [`SizedOut::optional`], but NULL is an error.
+    ///
+    /// # Safety
+    /// As for [`SizedOut::optional`].
+    pub(crate) unsafe fn required(ptr: *mut T, what: &'static str, type_name: &'static str) -> Result<Self> {
+        unsafe { Self::optional(ptr, what, type_name) }?
+            .ok_or_else(|| Error::InvalidArgument(format!("{what} is NULL; it must point to a {type_name}")))
+    }
+
+    /// Writes `value`'s fields after `struct_size`, as many bytes of them as the caller's
+    /// struct holds.
+    pub(crate) fn write(&self, value: T) {
+        let start = std::mem::size_of::<usize>();
+        let end = self.size.min(std::mem::size_of::<T>());
+        if end > start {
+            // SAFETY: the caller declared `size` ≥ `end` writable bytes at `ptr`; `value` is a
+            // `T` of at least `end` bytes, copied as possibly-uninitialised bytes (its padding).
+            unsafe {
+                std::ptr::copy_nonoverlapping(
+                    (&value as *const T as *const std::mem::MaybeUninit<u8>).add(start),
+                    (self.ptr as *mut std::mem::MaybeUninit<u8>).add(start),
+                    end - start,
+                )
+            };
+        }
+    }
 }
 
 /// Copies `values` into a caller array that must hold at least `values.len()` elements.

@@ -1,8 +1,11 @@
 //! Distortion-minimizing parameterizations: SLIM, ARAP, MIPS, stretch, Green–Lagrange,
 //! Degener (`uvf_nonlinear_map`).
 
-use super::{guard, mesh_from_raw, progress_closure, read_options, write_uv, UvfProgressFn};
-use crate::error::{Error, Result, UvfStatus};
+use super::status::UvfStatus;
+use super::MeshSource;
+use super::SizedOut;
+use super::{guard, progress_closure, read_options, write_uv, UvfProgressFn};
+use crate::error::{Error, Result};
 use crate::methods::nonlinear::{nonlinear_map_with_progress, NonlinearMethod, NonlinearOptions};
 use crate::progress::Progress;
 use std::os::raw::c_void;
@@ -68,6 +71,9 @@ impl Default for UvfNonlinearOptions {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfNonlinearReport {
+    /// `sizeof(UvfNonlinearReport)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Iterations done.
     pub iterations: u32,
     /// 1 when the tolerance was reached or no step could lower the energy; 0 when the
@@ -146,30 +152,62 @@ pub unsafe extern "C" fn uvf_nonlinear_map(
     uv_out: *mut f64,
     report_out: *mut UvfNonlinearReport,
 ) -> UvfStatus {
+    unsafe {
+        nonlinear_map_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            uv_out,
+            report_out,
+        )
+    }
+}
+
+/// `uvf_nonlinear_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_nonlinear_map`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_nonlinear_map(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfNonlinearOptions,
+    uv_out: *mut f64,
+    report_out: *mut UvfNonlinearReport,
+) -> UvfStatus {
+    unsafe { nonlinear_map_from(MeshSource::Handle(mesh), options, uv_out, report_out) }
+}
+
+/// `uvf_nonlinear_map` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_nonlinear_map`.
+unsafe fn nonlinear_map_from(
+    source: MeshSource,
+    options: *const UvfNonlinearOptions,
+    uv_out: *mut f64,
+    report_out: *mut UvfNonlinearReport,
+) -> UvfStatus {
     guard(|| {
+        // Checked before the work, so that a bad report pointer leaves every output untouched.
+        let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfNonlinearReport") }?;
         let o = read_options(options, UvfNonlinearOptions::default(), NONLINEAR_OPTIONS_V1, "UvfNonlinearOptions")?;
         let mut opts = NonlinearOptions::new(method_from(o.method)?);
         opts.iterations = o.iterations as usize;
         opts.tolerance = o.tolerance;
         opts.theta = o.theta;
         opts.bijective = o.bijective != 0;
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let mut callback = progress_closure(o.progress, o.progress_user);
-        if (report_out as usize) % std::mem::align_of::<UvfNonlinearReport>() != 0 {
-            return Err(Error::InvalidArgument("report_out is not aligned for UvfNonlinearReport".into()));
-        }
         let result = nonlinear_map_with_progress(&mesh, &opts, &mut Progress::new(&mut callback))?;
         write_uv(&result.uv, uv_out)?;
-        if !report_out.is_null() {
-            // SAFETY: the caller promises a writable report when non-NULL.
-            unsafe {
-                report_out.write(UvfNonlinearReport {
-                    iterations: result.iterations as u32,
-                    converged: result.converged as u32,
-                    initial_energy: result.energy[0],
-                    final_energy: *result.energy.last().unwrap_or(&result.energy[0]),
-                })
-            };
+        if let Some(report_out) = &report_out {
+            report_out.write(UvfNonlinearReport {
+                struct_size: 0,
+                iterations: result.iterations as u32,
+                converged: result.converged as u32,
+                initial_energy: result.energy[0],
+                final_energy: *result.energy.last().unwrap_or(&result.energy[0]),
+            });
         }
         Ok(())
     })

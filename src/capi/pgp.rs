@@ -2,11 +2,13 @@
 //! (`uvf_curvature`), the PGP pipeline (`uvf_pgp`) returning per-corner (θ, φ), and a result
 //! handle with the singularity lists (`uvf_pgp_*` accessors, `uvf_pgp_free`).
 
+use super::status::UvfStatus;
+use super::SizedOut;
 use super::UvfProgressFn;
 use super::{
     borrow_slice, borrow_slice_mut, checked_count, copy_out, guard, mesh_from_raw, progress_closure, read_options,
 };
-use crate::error::{Error, Result, UvfStatus};
+use crate::error::{Error, Result};
 use crate::methods::pgp::charts::{chart_parameterization, ChartKind, ChartParameterization};
 use crate::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
 use crate::methods::pgp::density::DEFAULT_FEATURE_PERIODS;
@@ -258,6 +260,9 @@ pub unsafe extern "C" fn uvf_pgp_options_default(options: *mut UvfPgpOptions) {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfPgpInfo {
+    /// `sizeof(UvfPgpInfo)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// The ω used.
     pub omega: f64,
     /// Singular vertices (§3.2: corner angles not summing to 2π).
@@ -336,6 +341,7 @@ fn pgp_options(o: &UvfPgpOptions, vertex_count: usize) -> Result<PgpOptions> {
 fn summary(result: &PgpResult, q: &Quality) -> UvfPgpInfo {
     let s = &result.singularities;
     UvfPgpInfo {
+        struct_size: 0,
         omega: result.omega,
         singular_vertex_count: s.vertices.len(),
         singular_edge_count: s.edges.len(),
@@ -417,7 +423,7 @@ unsafe fn handle<'a>(pgp: *const UvfPgp) -> Result<&'a UvfPgp> {
 pub unsafe extern "C" fn uvf_pgp_info(pgp: *const UvfPgp, info_out: *mut UvfPgpInfo) -> UvfStatus {
     guard(|| {
         let p = unsafe { handle(pgp) }?;
-        borrow_slice_mut(info_out, 1, "info_out")?[0] = p.info;
+        unsafe { SizedOut::required(info_out, "info_out", "UvfPgpInfo") }?.write(p.info);
         Ok(())
     })
 }
@@ -540,6 +546,9 @@ pub struct UvfQuadMesh {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfQuadMeshInfo {
+    /// `sizeof(UvfQuadMeshInfo)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Vertices (3 doubles each in `uvf_quad_mesh_copy`).
     pub vertex_count: usize,
     /// Faces (polygons).
@@ -561,6 +570,9 @@ pub struct UvfChartLayout {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfChartLayoutInfo {
+    /// `sizeof(UvfChartLayoutInfo)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Chart-boundary polylines.
     pub polyline_count: usize,
     /// Points of all polylines (3 doubles each in `uvf_chart_layout_copy`).
@@ -605,12 +617,13 @@ pub unsafe extern "C" fn uvf_quad_mesh_info(mesh: *const UvfQuadMesh, info_out: 
         // SAFETY: the caller passes a handle from `uvf_pgp_quad_mesh` not yet freed, or NULL.
         let m =
             &unsafe { mesh.as_ref() }.ok_or_else(|| Error::InvalidArgument("quad mesh handle is NULL".into()))?.mesh;
-        borrow_slice_mut(info_out, 1, "info_out")?[0] = UvfQuadMeshInfo {
+        unsafe { SizedOut::required(info_out, "info_out", "UvfQuadMeshInfo") }?.write(UvfQuadMeshInfo {
+            struct_size: 0,
             vertex_count: m.positions.len(),
             face_count: m.face_sizes.len(),
             index_count: m.indices.len(),
             quad_count: m.quad_count(),
-        };
+        });
         Ok(())
     })
 }
@@ -699,12 +712,13 @@ pub unsafe extern "C" fn uvf_chart_layout_info(
         let l = &unsafe { layout.as_ref() }
             .ok_or_else(|| Error::InvalidArgument("chart layout handle is NULL".into()))?
             .layout;
-        borrow_slice_mut(info_out, 1, "info_out")?[0] = UvfChartLayoutInfo {
+        unsafe { SizedOut::required(info_out, "info_out", "UvfChartLayoutInfo") }?.write(UvfChartLayoutInfo {
+            struct_size: 0,
             polyline_count: l.polylines.len(),
             point_count: l.polylines.iter().map(Vec::len).sum(),
             chart_count: l.chart_corners.len(),
             four_corner_chart_count: l.chart_corners.iter().filter(|&&c| c == 4).count(),
-        };
+        });
         Ok(())
     })
 }
@@ -779,6 +793,9 @@ pub struct UvfPgpCharts {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfPgpChartsInfo {
+    /// `sizeof(UvfPgpChartsInfo)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Vertices of the cut triangulation (the input's first, in the same order).
     pub vertex_count: usize,
     /// Triangles of the cut triangulation.
@@ -850,12 +867,13 @@ pub unsafe extern "C" fn uvf_pgp_charts_info(
         for ch in &c.charts {
             kind_counts[kind_code(ch.kind) as usize] += 1;
         }
-        borrow_slice_mut(info_out, 1, "info_out")?[0] = UvfPgpChartsInfo {
+        unsafe { SizedOut::required(info_out, "info_out", "UvfPgpChartsInfo") }?.write(UvfPgpChartsInfo {
+            struct_size: 0,
             vertex_count: c.positions.len(),
             triangle_count: c.triangles.len(),
             chart_count: c.charts.len(),
             kind_counts,
-        };
+        });
         Ok(())
     })
 }

@@ -1,10 +1,11 @@
 //! C ABI of QuadCover (`methods::quadcover`).
 
 use super::pgp::UvfQuadMesh;
+use super::status::UvfStatus;
+use super::SizedOut;
 use super::{
     borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, UvfProgressFn,
 };
-use crate::error::UvfStatus;
 use crate::error::{Error, Result};
 use crate::methods::pgp::isolines::check_density;
 use crate::methods::quadcover::{quad_mesh, quadcover, QuadCoverOptions, QuadCoverResult};
@@ -69,6 +70,9 @@ impl Default for UvfQuadCoverOptions {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UvfQuadCoverReport {
+    /// `sizeof(UvfQuadCoverReport)`, set by the caller before the call; the library writes only the fields
+    /// that fit in that many bytes (see Versioning at the top of the header).
+    pub struct_size: usize,
     /// Cone (singular) vertices of the frame field.
     pub cone_count: u32,
     /// Cutting paths (each carries one integer gap).
@@ -155,6 +159,8 @@ pub unsafe extern "C" fn uvf_quadcover(
     report_out: *mut UvfQuadCoverReport,
 ) -> UvfStatus {
     guard(|| {
+        // Checked before the work, so that a bad report pointer leaves every output untouched.
+        let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfQuadCoverReport") }?;
         let (opts, progress, progress_user) = options_from_c(options, field, triangle_count)?;
         let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
         // Checked before the work so that a bad output pointer leaves everything untouched.
@@ -175,7 +181,7 @@ pub unsafe extern "C" fn uvf_quadcover(
                 out[v as usize] = (4.0 * index).round() as i32;
             }
         }
-        write_report(report_out, &result);
+        write_report(report_out.as_ref(), &result);
         Ok(())
     })
 }
@@ -209,6 +215,8 @@ pub unsafe extern "C" fn uvf_quadcover_quad_mesh(
     report_out: *mut UvfQuadCoverReport,
 ) -> UvfStatus {
     guard(|| {
+        // Checked before the work, so that a bad report pointer leaves every output untouched.
+        let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfQuadCoverReport") }?;
         let (opts, progress, progress_user) = options_from_c(options, field, triangle_count)?;
         check_density(density)?;
         let slot = borrow_slice_mut(mesh_out, 1, "mesh_out")?;
@@ -217,7 +225,7 @@ pub unsafe extern "C" fn uvf_quadcover_quad_mesh(
         let result = quadcover(&mesh, &opts, &mut Progress::new(&mut callback))?;
         let quads = quad_mesh(&mesh, &result, density)?;
         slot[0] = Box::into_raw(Box::new(UvfQuadMesh { mesh: quads }));
-        write_report(report_out, &result);
+        write_report(report_out.as_ref(), &result);
         Ok(())
     })
 }
@@ -266,14 +274,11 @@ unsafe fn options_from_c(
     Ok((opts, o.progress, o.progress_user))
 }
 
-/// Writes the report of `result` when `report_out` is not NULL.
-///
-/// # Safety
-/// `report_out` NULL or writable.
-unsafe fn write_report(report_out: *mut UvfQuadCoverReport, result: &QuadCoverResult) {
-    if !report_out.is_null() {
-        // SAFETY: non-null, and the caller promises a writable UvfQuadCoverReport.
+/// Writes the report of `result` when the caller asked for it.
+fn write_report(report_out: Option<&SizedOut<UvfQuadCoverReport>>, result: &QuadCoverResult) {
+    if let Some(report_out) = report_out {
         report_out.write(UvfQuadCoverReport {
+            struct_size: 0,
             cone_count: result.cones.len() as u32,
             chain_count: result.chains as u32,
             flipped_count: result.flipped as u32,

@@ -4,9 +4,12 @@
 
 use super::atlas::{UvfAtlas, UVF_ATLAS_CHART_MEAN_VALUE, UVF_ATLAS_CHART_NATURAL_CONFORMAL};
 use super::atlas::{UVF_ATLAS_CHART_SLIM, UVF_ATLAS_CHART_STRETCH};
-use super::{borrow_slice_mut, copy_out, guard, mesh_from_raw, progress_closure, read_options, UvfProgressFn};
+use super::status::UvfStatus;
+use super::MeshSource;
+use super::SizedOut;
+use super::{borrow_slice_mut, copy_out, guard, progress_closure, read_options, UvfProgressFn};
 use crate::atlas::ChartMethod;
-use crate::error::{Error, Result, UvfStatus};
+use crate::error::{Error, Result};
 use crate::progress::Progress;
 use crate::unwrap::{unwrap_with_progress, UnwrapOptions, UnwrapReport};
 use std::os::raw::c_void;
@@ -101,8 +104,6 @@ pub unsafe extern "C" fn uvf_unwrap_options_default(options: *mut UvfUnwrapOptio
 }
 
 const UNWRAP_OPTIONS_V1: usize = std::mem::size_of::<UvfUnwrapOptions>();
-/// The smallest report a caller may pass: its size field and the island count.
-const REPORT_MIN: usize = std::mem::offset_of!(UvfUnwrapReport, repaired_islands);
 
 fn chart_method(code: u32) -> Result<ChartMethod> {
     Ok(match code {
@@ -157,6 +158,32 @@ pub unsafe extern "C" fn uvf_unwrap(
     options: *const UvfUnwrapOptions,
     unwrap_out: *mut *mut UvfUnwrap,
 ) -> UvfStatus {
+    unsafe { unwrap_from(MeshSource::arrays(positions, vertex_count, triangles, triangle_count), options, unwrap_out) }
+}
+
+/// `uvf_unwrap` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_unwrap`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_unwrap(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfUnwrapOptions,
+    unwrap_out: *mut *mut UvfUnwrap,
+) -> UvfStatus {
+    unsafe { unwrap_from(MeshSource::Handle(mesh), options, unwrap_out) }
+}
+
+/// `uvf_unwrap` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_unwrap`.
+unsafe fn unwrap_from(
+    source: MeshSource,
+    options: *const UvfUnwrapOptions,
+    unwrap_out: *mut *mut UvfUnwrap,
+) -> UvfStatus {
     guard(|| {
         let out = borrow_slice_mut(unwrap_out, 1, "unwrap_out")?;
         let o = read_options(options, UvfUnwrapOptions::default(), UNWRAP_OPTIONS_V1, "UvfUnwrapOptions")?;
@@ -167,7 +194,7 @@ pub unsafe extern "C" fn uvf_unwrap(
             iterations: o.iterations as usize,
             rotate: o.rotate != 0,
         };
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let result = unwrap_with_progress(&mesh, &options, &mut Progress::new(&mut callback))?;
         let report = report_of(&result.report, result.atlas.uv.len());
@@ -194,23 +221,7 @@ unsafe fn handle<'a>(unwrap: *const UvfUnwrap) -> Result<&'a UvfUnwrap> {
 pub unsafe extern "C" fn uvf_unwrap_report(unwrap: *const UvfUnwrap, report_out: *mut UvfUnwrapReport) -> UvfStatus {
     guard(|| {
         let u = unsafe { handle(unwrap) }?;
-        if report_out.is_null() || (report_out as usize) % std::mem::align_of::<UvfUnwrapReport>() != 0 {
-            return Err(Error::InvalidArgument("report_out is NULL or not aligned for UvfUnwrapReport".into()));
-        }
-        // SAFETY: non-null and aligned; every version of the struct starts with its size.
-        let size = unsafe { (report_out as *const usize).read() };
-        if size < REPORT_MIN {
-            return Err(Error::InvalidArgument(format!(
-                "report_out->struct_size is {size} but must be at least {REPORT_MIN}; set it to sizeof(UvfUnwrapReport)"
-            )));
-        }
-        let n = size.min(std::mem::size_of::<UvfUnwrapReport>());
-        let mut report = u.report;
-        report.struct_size = size;
-        // SAFETY: the caller declared `size` ≥ n writable bytes at `report_out`.
-        unsafe {
-            std::ptr::copy_nonoverlapping(&report as *const UvfUnwrapReport as *const u8, report_out as *mut u8, n)
-        };
+        unsafe { SizedOut::required(report_out, "report_out", "UvfUnwrapReport") }?.write(u.report);
         Ok(())
     })
 }

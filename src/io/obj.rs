@@ -306,11 +306,7 @@ impl ObjParser {
             [self.mesh.positions[i], self.mesh.positions[i + 1], self.mesh.positions[i + 2]]
         };
         let ring: Vec<[f64; 3]> = vertices.iter().map(|&v| point(v)).collect();
-        let normal = newell_normal(&ring);
-        if (1..ring.len() - 1).all(|k| turn(&ring, normal, [0, k, k + 1]) > 0.0) {
-            return;
-        }
-        let Some(order) = ear_clipping(&ring, normal) else { return };
+        let Some(order) = crate::mesh::polygon::ears_where_the_fan_folds(&ring) else { return };
         let corner_uvs = (!self.mesh.uv_triangles.is_empty()).then(|| {
             let t = &self.mesh.uv_triangles[3 * first..3 * (first + ring.len() - 2)];
             // The fan's corners: c0 in every triangle, then c1, c2, … in order.
@@ -326,55 +322,6 @@ impl ObjParser {
             }
         }
     }
-}
-
-/// Twice the area of triangle `tri` of `ring` projected on the plane of `normal` (times
-/// |normal|): positive when it turns the polygon's way.
-fn turn(ring: &[[f64; 3]], normal: [f64; 3], tri: [usize; 3]) -> f64 {
-    use crate::geometry::{cross, dot, sub};
-    let [a, b, c] = tri.map(|k| ring[k]);
-    dot(cross(sub(b, a), sub(c, a)), normal)
-}
-
-/// The polygon's Newell normal (twice its vector area).
-fn newell_normal(ring: &[[f64; 3]]) -> [f64; 3] {
-    let mut n = [0.0; 3];
-    for k in 0..ring.len() {
-        let (p, q) = (ring[k], ring[(k + 1) % ring.len()]);
-        n[0] += (p[1] - q[1]) * (p[2] + q[2]);
-        n[1] += (p[2] - q[2]) * (p[0] + q[0]);
-        n[2] += (p[0] - q[0]) * (p[1] + q[1]);
-    }
-    n
-}
-
-/// Ear clipping of a simple polygon in the plane of its Newell `normal` (O(n²) per ear): an
-/// ear is a corner that turns the polygon's way with no other corner inside or on its
-/// triangle. None when some step finds no ear (a self-intersecting polygon, or all corners
-/// collinear): the caller keeps the fan.
-fn ear_clipping(ring: &[[f64; 3]], normal: [f64; 3]) -> Option<Vec<[usize; 3]>> {
-    let mut left: Vec<usize> = (0..ring.len()).collect();
-    let mut out = Vec::with_capacity(ring.len() - 2);
-    while left.len() > 3 {
-        let m = left.len();
-        let ear = (0..m).find(|&i| {
-            let tri = [left[(i + m - 1) % m], left[i], left[(i + 1) % m]];
-            turn(ring, normal, tri) > 0.0
-                && left.iter().filter(|v| !tri.contains(v)).all(|&v| !inside_or_on(ring, normal, tri, v))
-        })?;
-        out.push([left[(ear + m - 1) % m], left[ear], left[(ear + 1) % m]]);
-        left.remove(ear);
-    }
-    let last = [left[0], left[1], left[2]];
-    (turn(ring, normal, last) > 0.0).then(|| {
-        out.push(last);
-        out
-    })
-}
-
-/// Whether corner `v` of `ring` lies inside or on triangle `tri` (in the plane of `normal`).
-fn inside_or_on(ring: &[[f64; 3]], normal: [f64; 3], tri: [usize; 3], v: usize) -> bool {
-    (0..3).all(|k| turn(ring, normal, [tri[k], tri[(k + 1) % 3], v]) >= 0.0)
 }
 
 // ---------------------------------------------------------------------------------------------

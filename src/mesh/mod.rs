@@ -10,6 +10,7 @@ pub mod connectivity;
 pub mod cut;
 pub mod fill;
 pub mod intrinsic_delaunay;
+pub(crate) mod polygon;
 pub mod topology;
 pub mod validate;
 

@@ -7,8 +7,8 @@
 #include <type_traits>
 
 static_assert(UVF_OK == 0, "UVF_OK must be 0");
-static_assert(sizeof(UvfMetrics) == 4 * sizeof(size_t) + 8 * sizeof(double), "UvfMetrics layout");
-static_assert(sizeof(UvfMeshInfo) == 7 * sizeof(size_t) + 2 * sizeof(int64_t), "UvfMeshInfo layout");
+static_assert(sizeof(UvfMetrics) == 5 * sizeof(size_t) + 8 * sizeof(double), "UvfMetrics layout");
+static_assert(sizeof(UvfMeshInfo) == 8 * sizeof(size_t) + 2 * sizeof(int64_t), "UvfMeshInfo layout");
 static_assert(offsetof(UvfFixedBoundaryOptions, struct_size) == 0, "struct_size comes first");
 static_assert(offsetof(UvfNaturalConformalOptions, struct_size) == 0, "struct_size comes first");
 static_assert(offsetof(UvfPgpOptions, struct_size) == 0, "struct_size comes first");

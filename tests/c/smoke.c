@@ -20,6 +20,49 @@ static void check(int ok, const char *what) {
     }
 }
 
+/* A report or info struct as a program built against an older header lays it out: without its
+ * last field (`struct_size` = the offset of that field), followed by guard bytes. */
+static union {
+    double align_double;
+    size_t align_size;
+    unsigned char bytes[512];
+} old_struct;
+
+static void *old_layout(size_t old_size) {
+    memset(old_struct.bytes, 0xA5, sizeof old_struct.bytes);
+    memcpy(old_struct.bytes, &old_size, sizeof old_size);
+    return old_struct.bytes;
+}
+
+static int old_layout_intact(size_t old_size) {
+    size_t k;
+    size_t written;
+    int intact = 1;
+    memcpy(&written, old_struct.bytes, sizeof written);
+    for (k = old_size; k < sizeof old_struct.bytes; k++) intact &= old_struct.bytes[k] == 0xA5;
+    return intact && written == old_size;
+}
+
+/* CALL (which writes through `report_`) into a current struct and into an older, shorter
+ * layout: the library writes the older layout's fields and not one byte past its struct_size. */
+#define CHECK_OLD_LAYOUT(T, first, last, CALL)                                                   \
+    do {                                                                                         \
+        T full_;                                                                                 \
+        T *old_ = (T *)old_layout(offsetof(T, last));                                            \
+        full_.struct_size = sizeof full_;                                                        \
+        {                                                                                        \
+            T *report_ = &full_;                                                                 \
+            check((CALL) == UVF_OK, #T ": current layout");                                      \
+        }                                                                                        \
+        {                                                                                        \
+            T *report_ = old_;                                                                   \
+            check((CALL) == UVF_OK, #T ": older layout accepted");                               \
+        }                                                                                        \
+        check(old_layout_intact(offsetof(T, last)), #T ": nothing written past struct_size");    \
+        check(old_->first == full_.first, #T ": the older layout's fields are written");         \
+    } while (0)
+
+
 static void bent_grid(double *positions, uint32_t *triangles) {
     int i, j, t = 0;
     for (j = 0; j < N; j++)
@@ -73,6 +116,7 @@ static void check_options_and_counts(const double *positions, size_t nv, const u
     UvfFixedBoundaryOptions fixed;
     UvfNaturalConformalOptions conformal;
     UvfMeshInfo info;
+    info.struct_size = sizeof info;
     UvfStatus status;
     uvf_fixed_boundary_options_default(&fixed);
     check(fixed.struct_size == sizeof fixed && fixed.weights == UVF_WEIGHTS_MEAN_VALUE, "fixed defaults");
@@ -101,6 +145,8 @@ static void check_corner_metrics(const double *positions, size_t nv, const uint3
     static double corner_uv[2 * 6 * (N - 1) * (N - 1)];
     static uint32_t corner_index[6 * (N - 1) * (N - 1)];
     UvfMetrics per_vertex, per_corner;
+    per_vertex.struct_size = sizeof per_vertex;
+    per_corner.struct_size = sizeof per_corner;
     size_t c;
     for (c = 0; c < 3 * nt; c++) {
         corner_uv[2 * c] = uv[2 * triangles[c]];
@@ -108,6 +154,8 @@ static void check_corner_metrics(const double *positions, size_t nv, const uint3
         corner_index[c] = (uint32_t)c;
     }
     check(uvf_metrics(positions, nv, triangles, nt, uv, nv, NULL, &per_vertex) == UVF_OK, "per-vertex metrics");
+    CHECK_OLD_LAYOUT(UvfLayoutCheck, flipped, islands, uvf_check_layout(uv, nv, triangles, nt, report_));
+    CHECK_OLD_LAYOUT(UvfMetrics, triangles, area_max, uvf_metrics(positions, nv, triangles, nt, uv, nv, NULL, report_));
     check(uvf_metrics(positions, nv, triangles, nt, corner_uv, 3 * nt, corner_index, &per_corner) == UVF_OK,
           "per-corner metrics");
     check(per_vertex.stretch_l2 == per_corner.stretch_l2 && per_vertex.flipped == per_corner.flipped,
@@ -132,6 +180,7 @@ static void check_nonlinear(const double *positions, size_t nv, const uint32_t *
                                         UVF_NONLINEAR_STRETCH, UVF_NONLINEAR_GREEN_LAGRANGE, UVF_NONLINEAR_DEGENER};
     UvfNonlinearOptions options;
     UvfNonlinearReport report;
+    report.struct_size = sizeof report;
     UvfStatus status;
     size_t m, t;
     int calls = 0;
@@ -143,6 +192,7 @@ static void check_nonlinear(const double *positions, size_t nv, const uint32_t *
         options.method = methods[m];
         options.iterations = 20;
         status = uvf_nonlinear_map(positions, nv, triangles, nt, &options, uv, &report);
+        CHECK_OLD_LAYOUT(UvfNonlinearReport, iterations, final_energy, uvf_nonlinear_map(positions, nv, triangles, nt, &options, uv, report_));
         check(status == UVF_OK, "uvf_nonlinear_map succeeds");
         for (t = 0; t < nt; t++) {
             const double *a = uv + 2 * triangles[3 * t], *b = uv + 2 * triangles[3 * t + 1], *c = uv + 2 * triangles[3 * t + 2];
@@ -267,13 +317,16 @@ static int cancel_first(void *user, double fraction) {
 static void check_abf(const double *positions, size_t nv, const uint32_t *triangles, size_t nt, double *uv) {
     UvfAbfOptions options;
     UvfAbfReport report;
+    report.struct_size = sizeof report;
     UvfMetrics metrics;
+    metrics.struct_size = sizeof metrics;
     UvfStatus status;
     int calls = 0;
     uvf_abf_options_default(&options);
     check(options.struct_size == sizeof(UvfAbfOptions) && options.variant == UVF_ABF_VARIANT_ABF_PLUS_PLUS,
           "ABF defaults: ABF++");
     status = uvf_abf(positions, nv, triangles, nt, &options, uv, &report);
+    CHECK_OLD_LAYOUT(UvfAbfReport, iterations, invalid_angles, uvf_abf(positions, nv, triangles, nt, &options, uv, report_));
     check(status == UVF_OK && report.converged == 1 && report.gradient_norm <= 1e-6 && report.iterations <= 10,
           "ABF++ converges on the bent grid");
     status = uvf_metrics(positions, nv, triangles, nt, uv, nv, NULL, &metrics);
@@ -318,11 +371,15 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
                                          double *uv) {
     UvfSpectralOptions spectral;
     UvfSpectralReport spectral_report;
+    spectral_report.struct_size = sizeof spectral_report;
     UvfIntrinsicOptimalOptions optimal;
     UvfIntrinsicOptimalReport optimal_report;
+    optimal_report.struct_size = sizeof optimal_report;
     UvfBoundaryOptimizationOptions bopt;
     UvfBoundaryOptimizationReport breport;
+    breport.struct_size = sizeof breport;
     UvfMetrics metrics;
+    metrics.struct_size = sizeof metrics;
     double history[101];
     size_t i;
     int calls = 0, monotone = 1;
@@ -331,6 +388,7 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
     check(spectral.struct_size == sizeof spectral && spectral.iterations > 0, "spectral defaults");
     check(uvf_spectral_conformal_map(positions, nv, triangles, nt, &spectral, uv, &spectral_report) == UVF_OK,
           "spectral conformal map succeeds");
+    CHECK_OLD_LAYOUT(UvfSpectralReport, iterations, residual, uvf_spectral_conformal_map(positions, nv, triangles, nt, &spectral, uv, report_));
     check(spectral_report.converged == 1 && spectral_report.residual <= spectral.tolerance &&
               spectral_report.eigenvalue >= 0.0,
           "spectral eigenpair converged");
@@ -354,6 +412,7 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
     {
         UvfCirclePatternOptions circles;
         UvfCirclePatternReport circles_report;
+        circles_report.struct_size = sizeof circles_report;
         uvf_circle_pattern_options_default(&circles);
         check(circles.struct_size == sizeof circles && circles.max_iterations > 0 && circles.pin_count == 0 &&
                   circles.intrinsic_delaunay == 1 && circles.convex_boundary == 0,
@@ -390,6 +449,7 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
                   circles_report.closure_error < 1e-9 && circles_report.radius_span >= 0.0 &&
                   circles_report.radius_span < 12.0,
               "circle pattern map with a convex boundary");
+        CHECK_OLD_LAYOUT(UvfCirclePatternReport, angle_iterations, radius_span, uvf_circle_pattern_map(positions, nv, triangles, nt, &circles, uv, report_));
         check(uvf_metrics(positions, nv, triangles, nt, uv, nv, NULL, &metrics) == UVF_OK &&
                   metrics.boundary_intersections == 0,
               "circle pattern map with a convex boundary does not cross its boundary");
@@ -486,6 +546,7 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
     {
         UvfQuadCoverOptions qc;
         UvfQuadCoverReport qc_report;
+        qc_report.struct_size = sizeof qc_report;
         static double corner_uv[6 * 2 * (N - 1) * (N - 1)], field[3 * 2 * (N - 1) * (N - 1)];
         static int32_t cone_index[N * N];
         size_t k;
@@ -500,6 +561,7 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
                   qc_report.flipped_count <= qc_report.flipped_before_untangling &&
                   qc_report.forced_flat_count <= qc_report.flipped_count,
               "quadcover with the curvature field, integer gaps");
+        CHECK_OLD_LAYOUT(UvfQuadCoverReport, cone_count, forced_flat_count, uvf_quadcover(positions, nv, triangles, nt, &qc, NULL, corner_uv, cone_index, report_));
         qc.untangle = 2;
         check(uvf_quadcover(positions, nv, triangles, nt, &qc, NULL, corner_uv, NULL, NULL) == UVF_INVALID_ARGUMENT &&
                   strstr(uvf_last_error_message(), "untangle") != NULL,
@@ -533,6 +595,7 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
         {
             UvfQuadMesh *grid_quads = NULL;
             UvfQuadMeshInfo gi;
+            gi.struct_size = sizeof gi;
             check(uvf_quadcover_quad_mesh(positions, nv, triangles, nt, &qc, field, 1.0, &grid_quads, &qc_report) ==
                           UVF_OK &&
                       grid_quads != NULL && qc_report.cone_count == 0,
@@ -547,6 +610,7 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
                     cells += 0.5 * ((q[2] - q[0]) * (q[5] - q[1]) - (q[4] - q[0]) * (q[3] - q[1]));
                 }
                 check(uvf_quad_mesh_info(grid_quads, &gi) == UVF_OK, "quadcover quad mesh info");
+                CHECK_OLD_LAYOUT(UvfQuadMeshInfo, vertex_count, quad_count, uvf_quad_mesh_info(grid_quads, report_));
                 check((double)gi.face_count >= cells && 5 * gi.quad_count >= 4 * gi.face_count,
                       "quadcover quad mesh: the cells of the grid");
                 uvf_quad_mesh_free(grid_quads);
@@ -584,6 +648,7 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
           "near-optimal defaults: edge energy, unbounded lambda");
     check(uvf_intrinsic_optimal_map(positions, nv, triangles, nt, &optimal, uv, &optimal_report) == UVF_OK,
           "near-optimal lambda (edge lengths)");
+    CHECK_OLD_LAYOUT(UvfIntrinsicOptimalReport, lambda, flipped, uvf_intrinsic_optimal_map(positions, nv, triangles, nt, &optimal, uv, report_));
     check(optimal_report.energy <= optimal_report.energy_conformal &&
               optimal_report.energy <= optimal_report.energy_authalic && isfinite(optimal_report.lambda),
           "near-optimal energy no worse than DCP and DAP");
@@ -607,6 +672,7 @@ static void check_intrinsic_optimization(const double *positions, size_t nv, con
     check(bopt.iterations == 100 && bopt.lambda == 1.0 && bopt.mu == 0.0, "boundary optimization defaults");
     check(uvf_boundary_optimized_map(positions, nv, triangles, nt, &bopt, uv, history, 101, &breport) == UVF_OK,
           "boundary optimization succeeds");
+    CHECK_OLD_LAYOUT(UvfBoundaryOptimizationReport, iterations, flipped, uvf_boundary_optimized_map(positions, nv, triangles, nt, &bopt, uv, history, 101, report_));
     check(breport.history_length == (size_t)breport.iterations + 1 && breport.history_length <= 101 &&
               history[0] == breport.initial_energy && history[breport.history_length - 1] == breport.final_energy &&
               breport.final_energy < breport.initial_energy && breport.flipped == 0,
@@ -645,9 +711,11 @@ static void check_closed_surfaces(void) {
     int i, j, t = 0, calls = 0;
     UvfCut *cut = NULL;
     UvfCutInfo info;
+    info.struct_size = sizeof info;
     UvfCutOptions options;
     UvfSphereOptions sphere_options;
     UvfMetrics metrics;
+    metrics.struct_size = sizeof metrics;
     UvfStatus status;
     for (i = 0; i < TN; i++)
         for (j = 0; j < TM; j++) {
@@ -672,6 +740,7 @@ static void check_closed_surfaces(void) {
     check(status == UVF_OK && cut != NULL, "torus is cut into a disk");
     if (cut == NULL) return;
     status = uvf_cut_info(cut, &info);
+    CHECK_OLD_LAYOUT(UvfCutInfo, vertex_count, total_edge_length, uvf_cut_info(cut, report_));
     check(status == UVF_OK && info.triangle_count == 2 * TN * TM && info.edge_count > 0, "cut info");
     check(info.seam_length > 0.0 && info.seam_length < info.total_edge_length, "seam is part of the edges");
     /* A two-loop cut graph of E edges adds E + 1 vertex copies. */
@@ -751,6 +820,7 @@ static void check_pgp(void) {
     UvfCurvatureOptions copts;
     UvfPgpOptions options;
     UvfPgpInfo info;
+    info.struct_size = sizeof info;
     UvfPgp *pgp = NULL;
     UvfQuadMesh *quads = NULL;
     UvfChartLayout *layout = NULL;
@@ -798,6 +868,7 @@ static void check_pgp(void) {
     for (k = 0; k < 6 * nt; k++) ok &= isfinite(corners[k]);
     check(ok, "per-corner coordinates are finite");
     status = uvf_pgp_info(pgp, &info);
+    CHECK_OLD_LAYOUT(UvfPgpInfo, omega, alignment_degrees, uvf_pgp_info(pgp, report_));
     check(status == UVF_OK && info.omega > 0.0 && fabs(info.index_sum) < 1e-9, "pgp info: index sum 0 on a torus");
     check(info.singular_triangle_count < nt / 20, "few singular triangles");
     check(uvf_pgp_copy_singular_vertices(pgp, list, info.singular_vertex_count) == UVF_OK, "copy singular vertices");
@@ -812,6 +883,7 @@ static void check_pgp(void) {
     check(status == UVF_OK && quads != NULL, "quad-dominant remesh of a torus");
     if (quads != NULL) {
         UvfQuadMeshInfo qi;
+        qi.struct_size = sizeof qi;
         check(uvf_quad_mesh_info(quads, &qi) == UVF_OK && qi.face_count > 0 && qi.quad_count * 10 >= qi.face_count * 9,
               "remesh info: at least 90% quads");
         double *qpos = malloc(sizeof(double) * 3 * qi.vertex_count);
@@ -847,8 +919,10 @@ static void check_pgp(void) {
     check(status == UVF_OK && layout != NULL, "chart layout of a torus");
     if (layout != NULL) {
         UvfChartLayoutInfo li;
+        li.struct_size = sizeof li;
         check(uvf_chart_layout_info(layout, &li) == UVF_OK && li.chart_count > 0 && li.polyline_count > 0,
               "chart layout info");
+        CHECK_OLD_LAYOUT(UvfChartLayoutInfo, polyline_count, four_corner_chart_count, uvf_chart_layout_info(layout, report_));
         uint32_t *lsizes = malloc(sizeof(uint32_t) * li.polyline_count);
         double *lpoints = malloc(sizeof(double) * 3 * li.point_count);
         uint32_t *lcorners = malloc(sizeof(uint32_t) * li.chart_count);
@@ -875,8 +949,10 @@ static void check_pgp(void) {
     check(status == UVF_OK && charts != NULL, "per-chart parameterization of a torus");
     if (charts != NULL) {
         UvfPgpChartsInfo ci;
+        ci.struct_size = sizeof ci;
         check(uvf_pgp_charts_info(charts, &ci) == UVF_OK && ci.chart_count > 0 && ci.triangle_count > 0,
               "charts info");
+        CHECK_OLD_LAYOUT(UvfPgpChartsInfo, vertex_count, kind_counts, uvf_pgp_charts_info(charts, report_));
         check(ci.kind_counts[UVF_PGP_CHART_ASSEMBLED] == ci.chart_count, "a torus without singularity is assembled");
         double *cpos = malloc(sizeof(double) * 3 * ci.vertex_count);
         uint32_t *ctri = malloc(sizeof(uint32_t) * 3 * ci.triangle_count);
@@ -1002,8 +1078,10 @@ static void check_atlas(void) {
     static uint32_t tris[6 * AN * AM], uv_tris[6 * AN * AM], charts[2 * AN * AM], original[8 * AN * AM];
     UvfAtlasOptions options;
     UvfAtlasInfo info;
+    info.struct_size = sizeof info;
     UvfAtlas *atlas = NULL;
     UvfMetrics metrics;
+    metrics.struct_size = sizeof metrics;
     UvfStatus status;
     int calls = 0;
     size_t k;
@@ -1015,6 +1093,7 @@ static void check_atlas(void) {
     check(status == UVF_OK && atlas != NULL, "a torus becomes an atlas");
     if (atlas == NULL) return;
     check(uvf_atlas_info(atlas, &info) == UVF_OK && info.triangle_count == 2 * AN * AM, "atlas info");
+    CHECK_OLD_LAYOUT(UvfAtlasInfo, vertex_count, max_chart_stretch, uvf_atlas_info(atlas, report_));
     check(info.chart_count >= 1 && info.max_chart_stretch <= 1.05 && info.stretch_l2 <= 1.05, "charts under the bound");
     check(info.utilization > 0.0 && info.utilization < 1.0, "utilization is a fraction");
     check(info.vertex_count <= 8 * AN * AM, "atlas vertices fit the test buffers");
@@ -1059,7 +1138,9 @@ static void check_unwrap(void) {
     UvfUnwrap *result = NULL;
     const UvfAtlas *layout = NULL;
     UvfAtlasInfo info;
+    info.struct_size = sizeof info;
     UvfMetrics metrics;
+    metrics.struct_size = sizeof metrics;
     UvfStatus status;
     size_t k;
     int calls = 0, untouched = 1;
@@ -1071,6 +1152,7 @@ static void check_unwrap(void) {
     if (result == NULL) return;
     report.struct_size = sizeof report;
     check(uvf_unwrap_report(result, &report) == UVF_OK, "unwrap report");
+    CHECK_OLD_LAYOUT(UvfUnwrapReport, islands, utilization, uvf_unwrap_report(result, report_));
     check(report.flipped == 0 && report.overlaps == 0 && report.islands >= 1, "verified: no flip, no overlap");
     check(report.max_island_stretch <= 1.5 && report.seam_edges > 0, "islands under the bound, the torus is cut");
     check(uvf_unwrap_atlas(result, &layout) == UVF_OK && layout != NULL, "the layout as an atlas handle");
@@ -1112,13 +1194,41 @@ static void check_unwrap(void) {
     check(status == UVF_CANCELLED && result == NULL && calls == 1, "unwrap progress callback cancels");
 }
 
+/* uvf_status_string, uvf_last_error and the message's lifetime across successful calls. */
+static void check_status_strings_and_error_copies(const double *positions, size_t nv, const uint32_t *triangles) {
+    static const uint32_t bad_triangle[3] = {0, 1, 100000};
+    char buffer[256], tiny[8];
+    const char *message;
+    size_t length;
+    UvfMeshInfo info;
+    info.struct_size = sizeof info;
+    check(strcmp(uvf_status_string(UVF_OK), "success") == 0, "status string of UVF_OK");
+    check(strcmp(uvf_status_string(UVF_INVALID_MESH), "invalid mesh") == 0, "status string of UVF_INVALID_MESH");
+    check(strcmp(uvf_status_string(12345), "unknown uvflat status") == 0, "status string of an unknown code");
+    check(strcmp(uvf_status_string(-1), "unknown uvflat status") == 0, "status string of a negative code");
+    check(uvf_mesh_info(positions, nv, bad_triangle, 1, &info) == UVF_INVALID_MESH, "a bad index is refused");
+    message = uvf_last_error_message();
+    length = uvf_last_error(buffer, sizeof buffer);
+    check(length == strlen(buffer) && length > 0 && strstr(buffer, "100000") != NULL, "the error copied in full");
+    check(uvf_last_error(tiny, sizeof tiny) == length && strlen(tiny) == sizeof tiny - 1 &&
+              strncmp(tiny, buffer, sizeof tiny - 1) == 0,
+          "a short buffer gets a NUL-terminated prefix and the full length");
+    check(uvf_last_error(NULL, 0) == length, "the length alone");
+    check(uvf_mesh_info(positions, nv, triangles, 1, &info) == UVF_OK, "a valid call");
+    check(strcmp(uvf_last_error_message(), "") == 0 && uvf_last_error(buffer, sizeof buffer) == 0 && buffer[0] == 0,
+          "no message after a success");
+    check(strstr(message, "100000") != NULL, "the failed call's message pointer survives a successful call");
+}
+
 int main(void) {
     static double positions[3 * N * N];
     static uint32_t triangles[6 * (N - 1) * (N - 1)];
     static double uv[2 * N * N];
     const size_t nv = N * N, nt = 2 * (N - 1) * (N - 1);
     UvfMeshInfo info;
+    info.struct_size = sizeof info;
     UvfMetrics metrics;
+    metrics.struct_size = sizeof metrics;
     UvfFixedBoundaryOptions fixed;
     UvfNaturalConformalOptions conformal;
     UvfStatus status;
@@ -1128,8 +1238,15 @@ int main(void) {
     bent_grid(positions, triangles);
     check(uvf_abi_version() == UVF_ABI_VERSION, "ABI version matches the header");
     check(strlen(uvf_version()) > 0, "version string");
+    check(strcmp(uvf_version(), UVF_VERSION_STRING) == 0 && uvf_version_number() == UVF_VERSION_NUMBER,
+          "the library's version is the header's");
+    check_status_strings_and_error_copies(positions, nv, triangles);
+    check(uvf_thread_count() >= 1, "at least one worker thread");
+    check(uvf_set_thread_count(2) == UVF_INVALID_ARGUMENT && strstr(uvf_last_error_message(), "already") != NULL,
+          "the thread count cannot change once the workers exist");
 
     status = uvf_mesh_info(positions, nv, triangles, nt, &info);
+    CHECK_OLD_LAYOUT(UvfMeshInfo, vertices, genus, uvf_mesh_info(positions, nv, triangles, nt, report_));
     check(status == UVF_OK && info.boundary_loops == 1 && info.euler_characteristic == 1 && info.genus == 0,
           "mesh info of a grid: one boundary loop, disk");
 

@@ -35,8 +35,13 @@ pub fn library_dir() -> PathBuf {
         .unwrap_or_else(|| target_dir().join("release"))
 }
 
+/// The shared library's SONAME, `libuvflat.so.<major version>` (build.rs).
+pub fn soname() -> String {
+    format!("libuvflat.so.{}", env!("CARGO_PKG_VERSION_MAJOR"))
+}
+
 /// A directory to link test programs against (`-L`, `-rpath`): links `libuvflat.so` and its
-/// SONAME `libuvflat.so.0` (set by build.rs) to the library cargo built for this test. Cargo
+/// SONAME `libuvflat.so.<major>` (set by build.rs) to the library cargo built for this test. Cargo
 /// leaves only the unversioned name, which the dynamic loader would not find by SONAME.
 pub fn link_dir() -> PathBuf {
     static DIR: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
@@ -44,7 +49,7 @@ pub fn link_dir() -> PathBuf {
         let built = library_dir().join("libuvflat.so");
         let dir = target_dir().join(format!("link-{}", std::process::id()));
         std::fs::create_dir_all(&dir).expect("create the link directory");
-        for name in ["libuvflat.so", "libuvflat.so.0"] {
+        for name in ["libuvflat.so".to_string(), soname()] {
             let link = dir.join(name);
             let _ = std::fs::remove_file(&link);
             std::os::unix::fs::symlink(&built, &link).expect("symlink libuvflat.so");

@@ -446,6 +446,10 @@ void check_unwrap(const std::string &name, const Arrays &a) {
 void check_components(const Arrays &a) {
     context = "triangle components";
     expect(uvflat::abi_version() == UVF_ABI_VERSION, "the library's ABI version differs from the header's");
+    expect(uvflat::version_number() == UVF_VERSION_NUMBER, "the library's version differs from the header's");
+    expect(uvflat::status_string(UVF_INVALID_MESH) == "invalid mesh", "status string");
+    expect(uvflat::thread_count() >= 1, "at least one worker thread");
+    expect_error(UVF_INVALID_ARGUMENT, "set_thread_count after the workers exist", [] { uvflat::set_thread_count(1); });
     Arrays two = a;
     for (std::size_t k = 0; k < a.positions.size(); ++k) two.positions.push_back(a.positions[k] + (k % 3 == 0 ? 10 : 0));
     for (std::uint32_t v : a.triangles) two.triangles.push_back(v + std::uint32_t(a.vertex_count()));

@@ -72,6 +72,25 @@ def test_version_and_abi_version_match_the_crate_and_the_header():
     assert uvflat.abi_version() == uvflat.ABI_VERSION == header_abi
 
 
+def test_the_thread_count_is_set_before_the_workers_exist_and_fixed_after():
+    # A fresh interpreter: in this one earlier tests have already started the workers.
+    script = (
+        "import uvflat\n"
+        "uvflat.set_thread_count(1)\n"
+        "assert uvflat.thread_count() == 1, uvflat.thread_count()\n"
+        "try:\n"
+        "    uvflat.set_thread_count(3)\n"
+        "except uvflat.InvalidArgument as e:\n"
+        "    assert 'already' in str(e), e\n"
+        "else:\n"
+        "    raise AssertionError('the thread count changed after the workers existed')\n"
+        "print('ok')\n"
+    )
+    env = dict(os.environ, UVFLAT_LIBRARY=str(library_file()))
+    out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr
+
+
 def header_functions():
     """{name: (return type, [parameter declarations])} of every function in uvflat.h."""
     text = re.sub(r"/\*.*?\*/", "", HEADER.read_text(), flags=re.S)
@@ -92,6 +111,8 @@ C_TYPES = {
     "uint32_t": ctypes.c_uint32,
     "size_t *": ctypes.POINTER(ctypes.c_size_t),
     "int32_t *": ctypes.POINTER(ctypes.c_int32),
+    "char *": ctypes.c_char_p,
+    "int": ctypes.c_int,
 }
 
 
@@ -113,13 +134,14 @@ C_RETURNS = {
     "enum UvfStatus": ctypes.c_int,
     "const char *": ctypes.c_char_p,
     "uint32_t": ctypes.c_uint32,
+    "size_t": ctypes.c_size_t,
     "void": None,
 }
 
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 89, sorted(functions)
+    assert len(functions) == 107, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -133,7 +155,8 @@ def test_every_header_function_is_declared_with_the_header_prototype():
 def test_constants_and_status_codes_match_the_header():
     text = HEADER.read_text()
     defines = {k: int(v) for k, v in re.findall(r"#define (UVF_\w+) (\d+)", text)}
-    defines.pop("UVF_ABI_VERSION")
+    for version_macro in ("UVF_ABI_VERSION", "UVF_VERSION_MAJOR", "UVF_VERSION_MINOR", "UVF_VERSION_PATCH"):
+        defines.pop(version_macro)
     assert defines, "no constants found in the header"
     for name, value in defines.items():
         assert getattr(uvflat, name) == value, name
@@ -177,6 +200,7 @@ STRUCTS = {
     "UvfQuadMeshInfo": _library.UvfQuadMeshInfo,
     "UvfChartLayoutInfo": _library.UvfChartLayoutInfo,
     "UvfPgpChartsInfo": _library.UvfPgpChartsInfo,
+    "UvfMeshDesc": _library.UvfMeshDesc,
 }
 
 

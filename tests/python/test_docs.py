@@ -81,6 +81,11 @@ def untracked() -> set:
     return {p for p in out.stdout.split("\0") if p}
 
 
+def uvflat_major() -> str:
+    """The crate's major version (Cargo.toml), the number in the library's SONAME."""
+    return re.search(r'^version = "(\d+)\.', (REPO / "Cargo.toml").read_text(), re.M).group(1)
+
+
 @pytest.fixture
 def user_env(tmp_path):
     """The environment of the examples: the library and CLI under test first, a private HOME."""
@@ -89,7 +94,7 @@ def user_env(tmp_path):
     (bin_dir / "uvflat").symlink_to(cli_file())
     lib_dir = tmp_path / "lib"
     lib_dir.mkdir()
-    for name in ("libuvflat.so", "libuvflat.so.0"):  # the SONAME the loader looks for
+    for name in ("libuvflat.so", f"libuvflat.so.{uvflat_major()}"):  # the SONAME the loader looks for
         (lib_dir / name).symlink_to(library_file())
     env = dict(os.environ)
     env["PATH"] = f"{bin_dir}{os.pathsep}{Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"

@@ -63,6 +63,8 @@ from ._api import (
     spherical_map,
     Metrics,
     abi_version,
+    set_thread_count,
+    thread_count,
     authalic,
     boundary_loops,
     conformal,
@@ -123,6 +125,10 @@ from ._library import (
     UVF_ENERGY_AREA,
     UVF_CURVATURE_RINGS,
     UVF_CURVATURE_RADIUS,
+    UVF_INDEX_UINT16,
+    UVF_INDEX_UINT32,
+    UVF_SCALAR_DOUBLE,
+    UVF_SCALAR_FLOAT,
     UVF_SMOOTH_NONE,
     UVF_SMOOTH_2PI,
     UVF_SMOOTH_PI,
@@ -146,7 +152,7 @@ from ._library import (
 )
 
 #: Version of this Python package (the library's is :func:`version`).
-__version__ = "0.1.0"
+__version__ = "1.0.0"
 
 __all__ = [
     "ABI_VERSION",
@@ -231,6 +237,10 @@ __all__ = [
     "UVF_SPHERE_CIRCLE_PATTERNS",
     "UVF_CURVATURE_RINGS",
     "UVF_CURVATURE_RADIUS",
+    "UVF_INDEX_UINT16",
+    "UVF_INDEX_UINT32",
+    "UVF_SCALAR_DOUBLE",
+    "UVF_SCALAR_FLOAT",
     "UVF_SMOOTH_NONE",
     "UVF_SMOOTH_2PI",
     "UVF_SMOOTH_PI",
@@ -248,6 +258,8 @@ __all__ = [
     "UVF_WEIGHTS_MEAN_VALUE",
     "UVF_WEIGHTS_UNIFORM",
     "abi_version",
+    "set_thread_count",
+    "thread_count",
     "authalic",
     "boundary_loops",
     "conformal",

@@ -106,13 +106,29 @@ def _check(status: int) -> None:
 
 
 def version() -> str:
-    """Version of the loaded library, e.g. ``"0.1.0"`` (``uvf_version()``)."""
+    """Version of the loaded library, e.g. ``"1.0.0"`` (``uvf_version()``)."""
     return L.library().uvf_version().decode("ascii")
 
 
 def abi_version() -> int:
     """ABI version of the loaded library (``uvf_abi_version()``); equals :data:`ABI_VERSION`."""
     return int(L.library().uvf_abi_version())
+
+
+def set_thread_count(count: int) -> None:
+    """Number of worker threads the library computes on (0: one per core, or the
+    ``RAYON_NUM_THREADS`` environment variable). Call it before any other uvflat function: once
+    the workers exist their number is fixed and this raises :class:`InvalidArgument`
+    (``uvf_set_thread_count``)."""
+    if not 0 <= int(count) <= 0xFFFFFFFF:
+        raise ValueError(f"count must be in [0, 2**32), not {count}")
+    _check(L.library().uvf_set_thread_count(int(count)))
+
+
+def thread_count() -> int:
+    """Number of worker threads the library computes on (``uvf_thread_count``); creates them
+    with their default number if no call has needed them yet."""
+    return int(L.library().uvf_thread_count())
 
 
 # --- arrays ---------------------------------------------------------------------------------
@@ -1941,7 +1957,6 @@ def unwrap(
     bridge.run(lambda: lib.uvf_unwrap(_f64p(p), len(p), _u32p(t), len(t), byref(options), byref(handle)))
     try:
         report = L.UvfUnwrapReport()
-        report.struct_size = ctypes.sizeof(L.UvfUnwrapReport)
         _check(lib.uvf_unwrap_report(handle, byref(report)))
         layout = POINTER(L.UvfAtlas)()
         _check(lib.uvf_unwrap_atlas(handle, byref(layout)))

@@ -105,6 +105,11 @@ UVF_SPHERE_CIRCLE_PATTERNS = 3
 UVF_CURVATURE_RINGS = 0
 UVF_CURVATURE_RADIUS = 1
 
+UVF_SCALAR_DOUBLE = 0
+UVF_SCALAR_FLOAT = 1
+UVF_INDEX_UINT32 = 0
+UVF_INDEX_UINT16 = 1
+
 UVF_SMOOTH_NONE = 0
 UVF_SMOOTH_2PI = 1
 UVF_SMOOTH_PI = 2
@@ -119,10 +124,20 @@ UvfStatus = c_int
 UvfProgressFn = CFUNCTYPE(c_int, c_void_p, c_double)
 
 
-class UvfMeshInfo(Structure):
+class _Written(Structure):
+    """A struct the library writes into (report, info): ``struct_size`` is set on creation, and
+    the library writes only that many bytes."""
+
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        super().__init__(*args, **kwargs)
+        self.struct_size = ctypes.sizeof(self)
+
+
+class UvfMeshInfo(_Written):
     """``struct UvfMeshInfo``: counts and topological invariants of a mesh."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("vertices", c_size_t),
         ("referenced_vertices", c_size_t),
         ("triangles", c_size_t),
@@ -166,10 +181,11 @@ class UvfNaturalConformalOptions(Structure):
     ]
 
 
-class UvfMetrics(Structure):
+class UvfMetrics(_Written):
     """``struct UvfMetrics``: distortion summary of a UV map."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("triangles", c_size_t),
         ("flipped", c_size_t),
         ("degenerate_uv", c_size_t),
@@ -203,10 +219,11 @@ class UvfAbfOptions(Structure):
     ]
 
 
-class UvfAbfReport(Structure):
+class UvfAbfReport(_Written):
     """``struct UvfAbfReport``: iterations and convergence of an ABF / ABF++ run."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("iterations", c_uint32),
         ("converged", c_uint32),
         ("gradient_norm", c_double),
@@ -246,10 +263,11 @@ class UvfSpectralOptions(Structure):
     ]
 
 
-class UvfSpectralReport(Structure):
+class UvfSpectralReport(_Written):
     """``struct UvfSpectralReport``: the eigenpair behind a spectral conformal map."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("iterations", c_uint32),
         ("converged", c_uint32),
         ("eigenvalue", c_double),
@@ -275,10 +293,11 @@ class UvfCirclePatternOptions(Structure):
     ]
 
 
-class UvfCirclePatternReport(Structure):
+class UvfCirclePatternReport(_Written):
     """``struct UvfCirclePatternReport``: Newton steps and closure of a circle-pattern map."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("angle_iterations", c_uint32),
         ("radius_iterations", c_uint32),
         ("closure_error", c_double),
@@ -318,10 +337,11 @@ class UvfQuadCoverOptions(Structure):
     ]
 
 
-class UvfQuadCoverReport(Structure):
+class UvfQuadCoverReport(_Written):
     """``struct UvfQuadCoverReport``: cones, folds and energies of a QuadCover map."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("cone_count", c_uint32),
         ("chain_count", c_uint32),
         ("flipped_count", c_uint32),
@@ -356,10 +376,11 @@ class UvfIntrinsicOptimalOptions(Structure):
     ]
 
 
-class UvfIntrinsicOptimalReport(Structure):
+class UvfIntrinsicOptimalReport(_Written):
     """``struct UvfIntrinsicOptimalReport``: the chosen λ and the energies."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("lambda_", c_double),  # `lambda` in C; a Python keyword
         ("energy", c_double),
         ("energy_conformal", c_double),
@@ -390,11 +411,12 @@ class UvfBoundaryOptimizationOptions(Structure):
     ]
 
 
-class UvfBoundaryOptimizationReport(Structure):
+class UvfBoundaryOptimizationReport(_Written):
     """``struct UvfBoundaryOptimizationReport``: iterations and energies of a boundary
     optimization."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("iterations", c_uint32),
         ("converged", c_uint32),
         ("history_length", c_size_t),
@@ -420,10 +442,11 @@ class UvfNonlinearOptions(Structure):
     ]
 
 
-class UvfNonlinearReport(Structure):
+class UvfNonlinearReport(_Written):
     """``struct UvfNonlinearReport``: iterations and energies of a non-linear run."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("iterations", c_uint32),
         ("converged", c_uint32),
         ("initial_energy", c_double),
@@ -441,10 +464,11 @@ class UvfCutOptions(Structure):
     ]
 
 
-class UvfCutInfo(Structure):
+class UvfCutInfo(_Written):
     """``struct UvfCutInfo``: sizes of a cut's outputs and its seam length."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("vertex_count", c_size_t),
         ("triangle_count", c_size_t),
         ("edge_count", c_size_t),
@@ -470,10 +494,11 @@ class UvfAtlasOptions(Structure):
     ]
 
 
-class UvfAtlasInfo(Structure):
+class UvfAtlasInfo(_Written):
     """``struct UvfAtlasInfo``: sizes and figures of an atlas."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("vertex_count", c_size_t),
         ("triangle_count", c_size_t),
         ("chart_count", c_size_t),
@@ -498,8 +523,8 @@ class UvfUnwrapOptions(Structure):
     ]
 
 
-class UvfUnwrapReport(Structure):
-    """``struct UvfUnwrapReport``: what ``uvf_unwrap`` did; set ``struct_size`` before reading."""
+class UvfUnwrapReport(_Written):
+    """``struct UvfUnwrapReport``: what ``uvf_unwrap`` did."""
 
     _fields_ = [
         ("struct_size", c_size_t),
@@ -516,10 +541,15 @@ class UvfUnwrapReport(Structure):
     ]
 
 
-class UvfLayoutCheck(Structure):
+class UvfLayoutCheck(_Written):
     """``struct UvfLayoutCheck``: what ``uvf_check_layout`` found."""
 
-    _fields_ = [("flipped", c_size_t), ("overlaps", c_size_t), ("islands", c_size_t)]
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("flipped", c_size_t),
+        ("overlaps", c_size_t),
+        ("islands", c_size_t),
+    ]
 
 
 class UvfSphereOptions(Structure):
@@ -572,10 +602,11 @@ class UvfPgpOptions(Structure):
     ]
 
 
-class UvfPgpInfo(Structure):
+class UvfPgpInfo(_Written):
     """``struct UvfPgpInfo``: counts and quality figures of a PGP result."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("omega", c_double),
         ("singular_vertex_count", c_size_t),
         ("singular_edge_count", c_size_t),
@@ -599,10 +630,11 @@ class UvfQuadMesh(Structure):
     """Opaque ``struct UvfQuadMesh`` (only used through pointers)."""
 
 
-class UvfQuadMeshInfo(Structure):
+class UvfQuadMeshInfo(_Written):
     """``struct UvfQuadMeshInfo``: counts of a quad-dominant remesh."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("vertex_count", c_size_t),
         ("face_count", c_size_t),
         ("index_count", c_size_t),
@@ -614,10 +646,11 @@ class UvfChartLayout(Structure):
     """Opaque ``struct UvfChartLayout`` (only used through pointers)."""
 
 
-class UvfChartLayoutInfo(Structure):
+class UvfChartLayoutInfo(_Written):
     """``struct UvfChartLayoutInfo``: counts of a chart layout."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("polyline_count", c_size_t),
         ("point_count", c_size_t),
         ("chart_count", c_size_t),
@@ -629,10 +662,11 @@ class UvfPgpCharts(Structure):
     """Opaque ``struct UvfPgpCharts`` (only used through pointers)."""
 
 
-class UvfPgpChartsInfo(Structure):
+class UvfPgpChartsInfo(_Written):
     """``struct UvfPgpChartsInfo``: counts of a per-chart parameterization."""
 
     _fields_ = [
+        ("struct_size", c_size_t),
         ("vertex_count", c_size_t),
         ("triangle_count", c_size_t),
         ("chart_count", c_size_t),
@@ -656,12 +690,38 @@ class UvfUnwrap(Structure):
     """Opaque ``struct UvfUnwrap`` (only used through pointers)."""
 
 
+class UvfMesh(Structure):
+    """Opaque ``struct UvfMesh`` (only used through pointers)."""
+
+
+class UvfMeshDesc(Structure):
+    """``struct UvfMeshDesc``: where ``uvf_mesh_new`` reads a mesh from."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("positions", c_void_p),
+        ("position_type", c_uint32),
+        ("position_stride", c_size_t),
+        ("vertex_count", c_size_t),
+        ("indices", c_void_p),
+        ("index_type", c_uint32),
+        ("index_stride", c_size_t),
+        ("face_sizes", POINTER(c_uint32)),
+        ("face_count", c_size_t),
+    ]
+
+
 _f64p = POINTER(c_double)
 _u32p = POINTER(c_uint32)
 
 #: Every function of ``uvflat.h``: name -> (restype, argtypes).
 PROTOTYPES = {
     "uvf_last_error_message": (c_char_p, []),
+    "uvf_last_error": (c_size_t, [ctypes.c_char_p, c_size_t]),
+    "uvf_status_string": (c_char_p, [c_int]),
+    "uvf_version_number": (c_uint32, []),
+    "uvf_set_thread_count": (UvfStatus, [c_uint32]),
+    "uvf_thread_count": (c_uint32, []),
     "uvf_version": (c_char_p, []),
     "uvf_abi_version": (c_uint32, []),
     "uvf_mesh_info": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfMeshInfo)]),
@@ -880,6 +940,22 @@ PROTOTYPES = {
     "uvf_unwrap_atlas": (UvfStatus, [POINTER(UvfUnwrap), POINTER(POINTER(UvfAtlas))]),
     "uvf_unwrap_copy_seams": (UvfStatus, [POINTER(UvfUnwrap), _u32p, c_size_t]),
     "uvf_unwrap_free": (None, [POINTER(UvfUnwrap)]),
+    "uvf_mesh_desc_default": (None, [POINTER(UvfMeshDesc)]),
+    "uvf_mesh_new": (UvfStatus, [POINTER(UvfMeshDesc), POINTER(POINTER(UvfMesh))]),
+    "uvf_mesh_free": (None, [POINTER(UvfMesh)]),
+    "uvf_mesh_handle_info": (UvfStatus, [POINTER(UvfMesh), POINTER(UvfMeshInfo)]),
+    "uvf_mesh_copy_triangles": (UvfStatus, [POINTER(UvfMesh), _u32p, c_size_t]),
+    "uvf_mesh_copy_triangle_faces": (UvfStatus, [POINTER(UvfMesh), _u32p, c_size_t]),
+    "uvf_mesh_face_corner_uv": (UvfStatus, [POINTER(UvfMesh), _f64p, c_size_t, _f64p, c_size_t]),
+    "uvf_mesh_fixed_boundary_map": (UvfStatus, [POINTER(UvfMesh), POINTER(UvfFixedBoundaryOptions), _f64p]),
+    "uvf_mesh_natural_conformal_map": (UvfStatus, [POINTER(UvfMesh), POINTER(UvfNaturalConformalOptions), _f64p]),
+    "uvf_mesh_abf": (UvfStatus, [POINTER(UvfMesh), POINTER(UvfAbfOptions), _f64p, POINTER(UvfAbfReport)]),
+    "uvf_mesh_nonlinear_map": (
+        UvfStatus,
+        [POINTER(UvfMesh), POINTER(UvfNonlinearOptions), _f64p, POINTER(UvfNonlinearReport)],
+    ),
+    "uvf_mesh_atlas": (UvfStatus, [POINTER(UvfMesh), POINTER(UvfAtlasOptions), POINTER(POINTER(UvfAtlas))]),
+    "uvf_mesh_unwrap": (UvfStatus, [POINTER(UvfMesh), POINTER(UvfUnwrapOptions), POINTER(POINTER(UvfUnwrap))]),
     "uvf_sphere_options_default": (None, [POINTER(UvfSphereOptions)]),
     "uvf_spherical_map": (
         UvfStatus,
