@@ -2088,6 +2088,18 @@ enum UvfStatus uvf_circle_pattern_map(const double *positions,
                                       struct UvfCirclePatternReport *report_out);
 
 /**
+ * `uvf_circle_pattern_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_circle_pattern_map`.
+ */
+enum UvfStatus uvf_mesh_circle_pattern_map(const struct UvfMesh *mesh,
+                                           const struct UvfCirclePatternOptions *options,
+                                           double *uv_out,
+                                           struct UvfCirclePatternReport *report_out);
+
+/**
  * Conformal map with cone singularities by circle patterns (Kharevych, Springborn & Schröder
  * 2006 §5), for a connected mesh of any genus, closed or with boundary: cone `i` sits at
  * interior vertex `cone_vertices[i]` with curvature `cone_curvature[i]` (2π minus the cone
@@ -2121,6 +2133,21 @@ enum UvfStatus uvf_circle_pattern_cone_map(const double *positions,
                                            struct UvfCirclePatternReport *report_out);
 
 /**
+ * `uvf_circle_pattern_cone_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_circle_pattern_cone_map`.
+ */
+enum UvfStatus uvf_mesh_circle_pattern_cone_map(const struct UvfMesh *mesh,
+                                                const uint32_t *cone_vertices,
+                                                const double *cone_curvature,
+                                                size_t cone_count,
+                                                const struct UvfCirclePatternOptions *options,
+                                                double *corner_uv_out,
+                                                struct UvfCirclePatternReport *report_out);
+
+/**
  * Fills `curvature_out` (`vertex_count` doubles) with the boundary curvature that makes the
  * longest boundary loop a convex polygon with the `corner_count` ≥ 3 given corner vertices:
  * turning 2π / corner_count at each corner, 0 (straight) at the loop's other vertices, NaN
@@ -2141,6 +2168,18 @@ enum UvfStatus uvf_circle_pattern_polygon_curvature(const double *positions,
                                                     const uint32_t *corners,
                                                     size_t corner_count,
                                                     double *curvature_out);
+
+/**
+ * `uvf_circle_pattern_polygon_curvature` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_circle_pattern_polygon_curvature`.
+ */
+enum UvfStatus uvf_mesh_circle_pattern_polygon_curvature(const struct UvfMesh *mesh,
+                                                         const uint32_t *corners,
+                                                         size_t corner_count,
+                                                         double *curvature_out);
 
 /**
  * Fills `options` with defaults (curvature-weighted edge length).
@@ -2173,6 +2212,17 @@ enum UvfStatus uvf_cut_to_disk(const double *positions,
                                size_t triangle_count,
                                const struct UvfCutOptions *options,
                                struct UvfCut **cut_out);
+
+/**
+ * `uvf_cut_to_disk` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_cut_to_disk`.
+ */
+enum UvfStatus uvf_mesh_cut_to_disk(const struct UvfMesh *mesh,
+                                    const struct UvfCutOptions *options,
+                                    struct UvfCut **cut_out);
 
 /**
  * Sizes and seam length of a cut. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
@@ -2264,6 +2314,18 @@ enum UvfStatus uvf_spherical_map(const double *positions,
                                  size_t *flipped_out);
 
 /**
+ * `uvf_spherical_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_spherical_map`.
+ */
+enum UvfStatus uvf_mesh_spherical_map(const struct UvfMesh *mesh,
+                                      const struct UvfSphereOptions *options,
+                                      double *sphere_out,
+                                      size_t *flipped_out);
+
+/**
  * Fills `options` with defaults (at most 64 cones, log scale 0.7, no callback).
  *
  * # Safety
@@ -2300,6 +2362,20 @@ enum UvfStatus uvf_place_cones(const double *positions,
                                double *cone_curvatures_out,
                                size_t *count_out,
                                double *max_log_scale_out);
+
+/**
+ * `uvf_place_cones` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_place_cones`.
+ */
+enum UvfStatus uvf_mesh_place_cones(const struct UvfMesh *mesh,
+                                    const struct UvfConePlacementOptions *options,
+                                    uint32_t *cone_vertices_out,
+                                    double *cone_curvatures_out,
+                                    size_t *count_out,
+                                    double *max_log_scale_out);
 
 /**
  * Human-readable message of the last call on this thread if it failed, "" if it succeeded.
@@ -2370,6 +2446,19 @@ enum UvfStatus uvf_constrained_fixed_boundary_map(const double *positions,
                                                   double *uv_out);
 
 /**
+ * `uvf_constrained_fixed_boundary_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_constrained_fixed_boundary_map`.
+ */
+enum UvfStatus uvf_mesh_constrained_fixed_boundary_map(const struct UvfMesh *mesh,
+                                                       const struct UvfFixedBoundaryOptions *options,
+                                                       const struct UvfPointConstraint *constraints,
+                                                       size_t constraint_count,
+                                                       double *uv_out);
+
+/**
  * Natural conformal map (Desbrun et al. 2002 §4.2 eq. 7 = LSCM) with point constraints
  * instead of two pins (§4.1): minimizes the conformal energy subject to every constraint.
  * Needs at least 2 constraints, not all with the same target; two vertex constraints give
@@ -2389,6 +2478,19 @@ enum UvfStatus uvf_constrained_natural_conformal_map(const double *positions,
                                                      size_t constraint_count,
                                                      const struct UvfIntrinsicToolOptions *options,
                                                      double *uv_out);
+
+/**
+ * `uvf_constrained_natural_conformal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_constrained_natural_conformal_map`.
+ */
+enum UvfStatus uvf_mesh_constrained_natural_conformal_map(const struct UvfMesh *mesh,
+                                                          const struct UvfPointConstraint *constraints,
+                                                          size_t constraint_count,
+                                                          const struct UvfIntrinsicToolOptions *options,
+                                                          double *uv_out);
 
 /**
  * Natural conformal map with any number (≥ 2) of pinned vertices: `pin_vertices[i]` goes to
@@ -2412,6 +2514,20 @@ enum UvfStatus uvf_pinned_natural_conformal_map(const double *positions,
                                                 double *uv_out);
 
 /**
+ * `uvf_pinned_natural_conformal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_pinned_natural_conformal_map`.
+ */
+enum UvfStatus uvf_mesh_pinned_natural_conformal_map(const struct UvfMesh *mesh,
+                                                     const uint32_t *pin_vertices,
+                                                     const double *pin_uv,
+                                                     size_t pin_count,
+                                                     const struct UvfIntrinsicToolOptions *options,
+                                                     double *uv_out);
+
+/**
  * Factors the intrinsic map λ·DCP + μ·DAP (Desbrun et al. 2002 §3.4) of a disk (holes are
  * filled) with its outer boundary fixed, for real-time boundary editing (§4.2). On success
  * `*editor_out` owns the editor (free it with `uvf_boundary_editor_free`); it does not keep
@@ -2433,6 +2549,19 @@ enum UvfStatus uvf_boundary_editor_new(const double *positions,
                                        double mu,
                                        const struct UvfIntrinsicToolOptions *options,
                                        struct UvfBoundaryEditor **editor_out);
+
+/**
+ * `uvf_boundary_editor_new` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_boundary_editor_new`.
+ */
+enum UvfStatus uvf_mesh_boundary_editor_new(const struct UvfMesh *mesh,
+                                            double lambda,
+                                            double mu,
+                                            const struct UvfIntrinsicToolOptions *options,
+                                            struct UvfBoundaryEditor **editor_out);
 
 /**
  * Frees an editor made by `uvf_boundary_editor_new` (NULL is ignored).
@@ -2527,6 +2656,18 @@ enum UvfStatus uvf_spectral_conformal_map(const double *positions,
                                           struct UvfSpectralReport *report_out);
 
 /**
+ * `uvf_spectral_conformal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_spectral_conformal_map`.
+ */
+enum UvfStatus uvf_mesh_spectral_conformal_map(const struct UvfMesh *mesh,
+                                               const struct UvfSpectralOptions *options,
+                                               double *uv_out,
+                                               struct UvfSpectralReport *report_out);
+
+/**
  * Fills `options` with defaults (edge-length energy, circle, chord length, λ unbounded).
  *
  * # Safety
@@ -2558,6 +2699,18 @@ enum UvfStatus uvf_intrinsic_optimal_map(const double *positions,
                                          const struct UvfIntrinsicOptimalOptions *options,
                                          double *uv_out,
                                          struct UvfIntrinsicOptimalReport *report_out);
+
+/**
+ * `uvf_intrinsic_optimal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_intrinsic_optimal_map`.
+ */
+enum UvfStatus uvf_mesh_intrinsic_optimal_map(const struct UvfMesh *mesh,
+                                              const struct UvfIntrinsicOptimalOptions *options,
+                                              double *uv_out,
+                                              struct UvfIntrinsicOptimalReport *report_out);
 
 /**
  * Fills `options` with defaults (edge-length energy, DCP, circle, 100 iterations).
@@ -2592,6 +2745,20 @@ enum UvfStatus uvf_boundary_optimized_map(const double *positions,
                                           double *history_out,
                                           size_t history_capacity,
                                           struct UvfBoundaryOptimizationReport *report_out);
+
+/**
+ * `uvf_boundary_optimized_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_boundary_optimized_map`.
+ */
+enum UvfStatus uvf_mesh_boundary_optimized_map(const struct UvfMesh *mesh,
+                                               const struct UvfBoundaryOptimizationOptions *options,
+                                               double *uv_out,
+                                               double *history_out,
+                                               size_t history_capacity,
+                                               struct UvfBoundaryOptimizationReport *report_out);
 
 /**
  * Validates a mesh and reports its topology.
@@ -2631,6 +2798,19 @@ enum UvfStatus uvf_boundary_loops(const double *positions,
                                   size_t offsets_capacity);
 
 /**
+ * `uvf_boundary_loops` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_boundary_loops`.
+ */
+enum UvfStatus uvf_mesh_boundary_loops(const struct UvfMesh *mesh,
+                                       uint32_t *vertices_out,
+                                       size_t vertices_capacity,
+                                       uint32_t *loop_offsets_out,
+                                       size_t offsets_capacity);
+
+/**
  * Connected component id (0-based) of every triangle; `component_out` holds
  * `triangle_count` entries. Statuses as `uvf_mesh_info`.
  *
@@ -2642,6 +2822,16 @@ enum UvfStatus uvf_triangle_components(const double *positions,
                                        const uint32_t *triangles,
                                        size_t triangle_count,
                                        uint32_t *component_out);
+
+/**
+ * `uvf_triangle_components` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_triangle_components`.
+ */
+enum UvfStatus uvf_mesh_triangle_components(const struct UvfMesh *mesh,
+                                            uint32_t *component_out);
 
 /**
  * Fills `desc` with the defaults (packed `double` positions, packed `uint32_t` triangles, no
@@ -2821,6 +3011,20 @@ enum UvfStatus uvf_metrics(const double *positions,
                            struct UvfMetrics *out);
 
 /**
+ * `uvf_metrics` on a mesh handle of `uvf_mesh_new`: its positions and triangles (the
+ * triangulation, `info.triangles` of them), `uv` per vertex (`uv_triangles` NULL, `uv_count`
+ * equal to the vertex count) or per corner (`uv_triangles`: 3 indices per triangle).
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_metrics`.
+ */
+enum UvfStatus uvf_mesh_metrics(const struct UvfMesh *mesh,
+                                const double *uv,
+                                size_t uv_count,
+                                const uint32_t *uv_triangles,
+                                struct UvfMetrics *out);
+
+/**
  * An independent, exact check of any UV layout (exact orientation predicates, nothing of the
  * method that made it): counts flipped triangles (every triangle must be counter-clockwise)
  * and overlaps within and between islands. A layout with neither is one-to-one: no two
@@ -2933,6 +3137,20 @@ enum UvfStatus uvf_curvature(const double *positions,
                              double *kmax_out);
 
 /**
+ * `uvf_curvature` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_curvature`.
+ */
+enum UvfStatus uvf_mesh_curvature(const struct UvfMesh *mesh,
+                                  const struct UvfCurvatureOptions *options,
+                                  double *kmin_direction_out,
+                                  double *kmax_direction_out,
+                                  double *kmin_out,
+                                  double *kmax_out);
+
+/**
  * Fills `options` with defaults.
  *
  * # Safety
@@ -2969,6 +3187,18 @@ enum UvfStatus uvf_pgp(const double *positions,
                        const struct UvfPgpOptions *options,
                        double *corner_coords_out,
                        struct UvfPgp **result_out);
+
+/**
+ * `uvf_pgp` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_pgp`.
+ */
+enum UvfStatus uvf_mesh_pgp(const struct UvfMesh *mesh,
+                            const struct UvfPgpOptions *options,
+                            double *corner_coords_out,
+                            struct UvfPgp **result_out);
 
 /**
  * Counts and quality figures of a PGP result. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT`.
@@ -3263,6 +3493,20 @@ enum UvfStatus uvf_quadcover(const double *positions,
                              struct UvfQuadCoverReport *report_out);
 
 /**
+ * `uvf_quadcover` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_quadcover`.
+ */
+enum UvfStatus uvf_mesh_quadcover(const struct UvfMesh *mesh,
+                                  const struct UvfQuadCoverOptions *options,
+                                  const double *field,
+                                  double *corner_uv_out,
+                                  int32_t *cone_index_out,
+                                  struct UvfQuadCoverReport *report_out);
+
+/**
  * The integer grid lines of a QuadCover map (run as `uvf_quadcover` does, same `options`,
  * `field` and `report_out`) as a polygon mesh on the input surface: the lines u, v ∈ ℤ /
  * `density` (a whole number ≥ 1; 1: one quad per grid cell), traced exactly and joined across
@@ -3288,6 +3532,20 @@ enum UvfStatus uvf_quadcover_quad_mesh(const double *positions,
                                        double density,
                                        struct UvfQuadMesh **mesh_out,
                                        struct UvfQuadCoverReport *report_out);
+
+/**
+ * `uvf_quadcover_quad_mesh` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_quadcover_quad_mesh`.
+ */
+enum UvfStatus uvf_mesh_quadcover_quad_mesh(const struct UvfMesh *mesh,
+                                            const struct UvfQuadCoverOptions *options,
+                                            const double *field,
+                                            double density,
+                                            struct UvfQuadMesh **mesh_out,
+                                            struct UvfQuadCoverReport *report_out);
 
 /**
  * A short English description of a status code, as a static NUL-terminated string (never

@@ -167,6 +167,61 @@ void check_optional_size(const std::vector<T> &values, std::size_t count, std::s
 
 } // namespace detail
 
+/// A mesh validated once for many calls (`uvf_mesh_new`): float or double positions at any
+/// byte stride, uint16 or uint32 indices, triangles or polygons (triangulated inside). Pass it to
+/// `natural_conformal_map`, `fixed_boundary_map` and `Unwrap` instead of the arrays.
+class Mesh {
+  public:
+    /// A triangle mesh from packed arrays (3 doubles per vertex, 3 indices per triangle).
+    Mesh(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles) {
+        UvfMeshDesc d;
+        uvf_mesh_desc_default(&d);
+        d.positions = positions.data();
+        d.vertex_count = detail::count_of(positions, 3, "positions");
+        d.indices = triangles.data();
+        d.face_count = detail::count_of(triangles, "triangles");
+        build(d);
+    }
+    /// Any mesh a description says (initialise it with `uvf_mesh_desc_default`).
+    explicit Mesh(const UvfMeshDesc &desc) { build(desc); }
+
+    /// Counts and topology of the triangulation.
+    UvfMeshInfo info() const {
+        UvfMeshInfo i = detail::sized<UvfMeshInfo>();
+        detail::check(uvf_mesh_handle_info(handle_.get(), &i));
+        return i;
+    }
+    std::size_t vertex_count() const { return vertex_count_; }
+    /// The triangulation: 3 vertex indices per triangle.
+    std::vector<std::uint32_t> triangles() const {
+        std::vector<std::uint32_t> out(3 * info().triangles);
+        detail::check(uvf_mesh_copy_triangles(handle_.get(), out.data(), out.size()));
+        return out;
+    }
+    /// The input face of every triangle.
+    std::vector<std::uint32_t> triangle_faces() const {
+        std::vector<std::uint32_t> out(info().triangles);
+        detail::check(uvf_mesh_copy_triangle_faces(handle_.get(), out.data(), out.size()));
+        return out;
+    }
+    /// Per-triangle-corner UVs (6 doubles per triangle) as 2 doubles per input face corner.
+    std::vector<double> face_corner_uv(const std::vector<double> &corner_uv, std::size_t corner_count) const {
+        std::vector<double> out(2 * corner_count);
+        detail::check(
+            uvf_mesh_face_corner_uv(handle_.get(), corner_uv.data(), corner_uv.size(), out.data(), out.size()));
+        return out;
+    }
+    const UvfMesh *get() const noexcept { return handle_.get(); }
+
+  private:
+    void build(const UvfMeshDesc &desc) {
+        detail::check(uvf_mesh_new(&desc, handle_.out()));
+        vertex_count_ = info().vertices;
+    }
+    detail::Handle<UvfMesh, uvf_mesh_free> handle_;
+    std::size_t vertex_count_ = 0;
+};
+
 /// Library version string, e.g. "1.0.0".
 inline std::string version() { return uvf_version(); }
 
@@ -367,6 +422,30 @@ inline std::vector<double> natural_conformal_map(const std::vector<double> &posi
                                                  const NaturalConformalOptions &options = {}) {
     return natural_conformal_map(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
                                  detail::count_of(triangles, "triangles"), options);
+}
+
+/// `fixed_boundary_map` on a mesh handle.
+inline std::vector<double> fixed_boundary_map(const Mesh &mesh, const FixedBoundaryOptions &options = {}) {
+    UvfFixedBoundaryOptions o = detail::fixed_boundary_options(options);
+    detail::Progress progress;
+    progress.callback = &options.progress;
+    progress.install(o);
+    std::vector<double> uv(2 * mesh.vertex_count());
+    progress.finish(uvf_mesh_fixed_boundary_map(mesh.get(), &o, uv.data()));
+    return uv;
+}
+
+/// `natural_conformal_map` on a mesh handle.
+inline std::vector<double> natural_conformal_map(const Mesh &mesh, const NaturalConformalOptions &options = {}) {
+    UvfNaturalConformalOptions o;
+    uvf_natural_conformal_options_default(&o);
+    detail::set_pins(o, options.pins);
+    detail::Progress progress;
+    progress.callback = &options.progress;
+    progress.install(o);
+    std::vector<double> uv(2 * mesh.vertex_count());
+    progress.finish(uvf_mesh_natural_conformal_map(mesh.get(), &o, uv.data()));
+    return uv;
 }
 
 /// A point of the surface and the UV it must map to: `{triangle, {b0, b1, b2}, {u, v}}`, the
@@ -1319,18 +1398,20 @@ class Unwrap {
   public:
     Unwrap(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
            const UnwrapOptions &options = {}) {
-        UvfUnwrapOptions o;
-        uvf_unwrap_options_default(&o);
-        o.max_stretch = options.max_stretch;
-        o.margin = options.margin;
-        o.method = static_cast<std::uint32_t>(options.method);
-        o.iterations = options.iterations;
-        o.rotate = options.rotate ? 1 : 0;
+        UvfUnwrapOptions o = c_options(options);
         detail::Progress progress;
         progress.callback = &options.progress;
         progress.install(o);
         progress.finish(uvf_unwrap(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
                                    detail::count_of(triangles, "triangles"), &o, handle_.out()));
+    }
+    /// The unwrap of a mesh handle.
+    explicit Unwrap(const Mesh &mesh, const UnwrapOptions &options = {}) {
+        UvfUnwrapOptions o = c_options(options);
+        detail::Progress progress;
+        progress.callback = &options.progress;
+        progress.install(o);
+        progress.finish(uvf_mesh_unwrap(mesh.get(), &o, handle_.out()));
     }
 
     /// What the unwrap did: islands, repairs, seams, verified flips and overlaps (0), stretch.
@@ -1375,6 +1456,16 @@ class Unwrap {
     }
 
   private:
+    static UvfUnwrapOptions c_options(const UnwrapOptions &options) {
+        UvfUnwrapOptions o;
+        uvf_unwrap_options_default(&o);
+        o.max_stretch = options.max_stretch;
+        o.margin = options.margin;
+        o.method = static_cast<std::uint32_t>(options.method);
+        o.iterations = options.iterations;
+        o.rotate = options.rotate ? 1 : 0;
+        return o;
+    }
     const UvfAtlas *layout() const {
         const UvfAtlas *a = nullptr;
         detail::check(uvf_unwrap_atlas(handle_.get(), &a));

@@ -1,10 +1,10 @@
 //! C ABI of the circle-pattern conformal map (`methods::circle_patterns`).
 
 use super::status::UvfStatus;
+use super::MeshSource;
 use super::SizedOut;
 use super::{
-    borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv,
-    UvfProgressFn,
+    borrow_slice, borrow_slice_mut, checked_count, guard, progress_closure, read_options, write_uv, UvfProgressFn,
 };
 use crate::error::Error;
 use crate::methods::circle_patterns::{
@@ -148,11 +148,47 @@ pub unsafe extern "C" fn uvf_circle_pattern_map(
     uv_out: *mut f64,
     report_out: *mut UvfCirclePatternReport,
 ) -> UvfStatus {
+    unsafe {
+        circle_pattern_map_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            uv_out,
+            report_out,
+        )
+    }
+}
+
+/// `uvf_circle_pattern_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_circle_pattern_map`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_circle_pattern_map(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfCirclePatternOptions,
+    uv_out: *mut f64,
+    report_out: *mut UvfCirclePatternReport,
+) -> UvfStatus {
+    unsafe { circle_pattern_map_from(MeshSource::Handle(mesh), options, uv_out, report_out) }
+}
+
+/// `uvf_circle_pattern_map` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_circle_pattern_map`.
+unsafe fn circle_pattern_map_from(
+    source: MeshSource,
+    options: *const UvfCirclePatternOptions,
+    uv_out: *mut f64,
+    report_out: *mut UvfCirclePatternReport,
+) -> UvfStatus {
     guard(|| {
+        let (vertex_count, _) = unsafe { source.counts() }?;
         // Checked before the work, so that a bad report pointer leaves every output untouched.
         let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfCirclePatternReport") }?;
         let (o, opts) = options_from_c(options, vertex_count)?;
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         // Checked before the work so that a bad output pointer leaves everything untouched.
         borrow_slice_mut(uv_out, checked_count(vertex_count, 2, "uv")?, "uv_out")?;
         let mut callback = progress_closure(o.progress, o.progress_user);
@@ -253,11 +289,66 @@ pub unsafe extern "C" fn uvf_circle_pattern_cone_map(
     corner_uv_out: *mut f64,
     report_out: *mut UvfCirclePatternReport,
 ) -> UvfStatus {
+    unsafe {
+        circle_pattern_cone_map_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            cone_vertices,
+            cone_curvature,
+            cone_count,
+            options,
+            corner_uv_out,
+            report_out,
+        )
+    }
+}
+
+/// `uvf_circle_pattern_cone_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_circle_pattern_cone_map`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_circle_pattern_cone_map(
+    mesh: *const super::mesh_handle::UvfMesh,
+    cone_vertices: *const u32,
+    cone_curvature: *const f64,
+    cone_count: usize,
+    options: *const UvfCirclePatternOptions,
+    corner_uv_out: *mut f64,
+    report_out: *mut UvfCirclePatternReport,
+) -> UvfStatus {
+    unsafe {
+        circle_pattern_cone_map_from(
+            MeshSource::Handle(mesh),
+            cone_vertices,
+            cone_curvature,
+            cone_count,
+            options,
+            corner_uv_out,
+            report_out,
+        )
+    }
+}
+
+/// `uvf_circle_pattern_cone_map` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_circle_pattern_cone_map`.
+unsafe fn circle_pattern_cone_map_from(
+    source: MeshSource,
+    cone_vertices: *const u32,
+    cone_curvature: *const f64,
+    cone_count: usize,
+    options: *const UvfCirclePatternOptions,
+    corner_uv_out: *mut f64,
+    report_out: *mut UvfCirclePatternReport,
+) -> UvfStatus {
     guard(|| {
+        let (vertex_count, triangle_count) = unsafe { source.counts() }?;
         // Checked before the work, so that a bad report pointer leaves every output untouched.
         let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfCirclePatternReport") }?;
         let (o, opts) = options_from_c(options, vertex_count)?;
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let vertices = borrow_slice(cone_vertices, cone_count, "cone_vertices")?;
         let curvature = borrow_slice(cone_curvature, cone_count, "cone_curvature")?;
         let cones: Vec<(u32, f64)> = vertices.iter().copied().zip(curvature.iter().copied()).collect();
@@ -294,8 +385,44 @@ pub unsafe extern "C" fn uvf_circle_pattern_polygon_curvature(
     corner_count: usize,
     curvature_out: *mut f64,
 ) -> UvfStatus {
+    unsafe {
+        polygon_curvature_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            corners,
+            corner_count,
+            curvature_out,
+        )
+    }
+}
+
+/// `uvf_circle_pattern_polygon_curvature` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_circle_pattern_polygon_curvature`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_circle_pattern_polygon_curvature(
+    mesh: *const super::mesh_handle::UvfMesh,
+    corners: *const u32,
+    corner_count: usize,
+    curvature_out: *mut f64,
+) -> UvfStatus {
+    unsafe { polygon_curvature_from(MeshSource::Handle(mesh), corners, corner_count, curvature_out) }
+}
+
+/// `uvf_circle_pattern_polygon_curvature` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_circle_pattern_polygon_curvature`.
+unsafe fn polygon_curvature_from(
+    source: MeshSource,
+    corners: *const u32,
+    corner_count: usize,
+    curvature_out: *mut f64,
+) -> UvfStatus {
     guard(|| {
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let (vertex_count, _) = unsafe { source.counts() }?;
+        let mesh = unsafe { source.mesh() }?;
         let corners = borrow_slice(corners, corner_count, "corners")?;
         let out = borrow_slice_mut(curvature_out, vertex_count, "curvature_out")?;
         out.copy_from_slice(&polygon_boundary_curvature(&mesh, corners)?);

@@ -2,10 +2,10 @@
 //! and spherical parameterization of closed genus-0 meshes.
 
 use super::status::UvfStatus;
+use super::MeshSource;
 use super::SizedOut;
 use super::{
-    borrow_slice, borrow_slice_mut, checked_count, copy_out, guard, mesh_from_raw, progress_closure, read_options,
-    UvfProgressFn,
+    borrow_slice, borrow_slice_mut, checked_count, copy_out, guard, progress_closure, read_options, UvfProgressFn,
 };
 use crate::error::{Error, Result};
 use crate::mesh::cut::{cut_to_disk, total_edge_length, Cut, EdgeCost};
@@ -108,10 +108,35 @@ pub unsafe extern "C" fn uvf_cut_to_disk(
     options: *const UvfCutOptions,
     cut_out: *mut *mut UvfCut,
 ) -> UvfStatus {
+    unsafe {
+        cut_to_disk_from(MeshSource::arrays(positions, vertex_count, triangles, triangle_count), options, cut_out)
+    }
+}
+
+/// `uvf_cut_to_disk` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_cut_to_disk`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_cut_to_disk(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfCutOptions,
+    cut_out: *mut *mut UvfCut,
+) -> UvfStatus {
+    unsafe { cut_to_disk_from(MeshSource::Handle(mesh), options, cut_out) }
+}
+
+/// `uvf_cut_to_disk` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_cut_to_disk`.
+unsafe fn cut_to_disk_from(source: MeshSource, options: *const UvfCutOptions, cut_out: *mut *mut UvfCut) -> UvfStatus {
     guard(|| {
+        let (_, triangle_count) = unsafe { source.counts() }?;
         let out = borrow_slice_mut(cut_out, 1, "cut_out")?;
         let o = read_options(options, UvfCutOptions::default(), CUT_OPTIONS_V1, "UvfCutOptions")?;
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let cost = match o.cost {
             UVF_CUT_COST_CURVATURE => EdgeCost::CurvatureWeightedLength,
             UVF_CUT_COST_LENGTH => EdgeCost::Length,
@@ -313,7 +338,43 @@ pub unsafe extern "C" fn uvf_spherical_map(
     sphere_out: *mut f64,
     flipped_out: *mut usize,
 ) -> UvfStatus {
+    unsafe {
+        spherical_map_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            sphere_out,
+            flipped_out,
+        )
+    }
+}
+
+/// `uvf_spherical_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_spherical_map`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_spherical_map(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfSphereOptions,
+    sphere_out: *mut f64,
+    flipped_out: *mut usize,
+) -> UvfStatus {
+    unsafe { spherical_map_from(MeshSource::Handle(mesh), options, sphere_out, flipped_out) }
+}
+
+/// `uvf_spherical_map` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_spherical_map`.
+unsafe fn spherical_map_from(
+    source: MeshSource,
+    options: *const UvfSphereOptions,
+    sphere_out: *mut f64,
+    flipped_out: *mut usize,
+) -> UvfStatus {
     guard(|| {
+        let (vertex_count, _) = unsafe { source.counts() }?;
         let o = read_options(options, UvfSphereOptions::default(), SPHERE_OPTIONS_V1, "UvfSphereOptions")?;
         let method = match o.method {
             UVF_SPHERE_TUTTE_GNOMONIC => SphereMethod::TutteGnomonic,
@@ -322,7 +383,7 @@ pub unsafe extern "C" fn uvf_spherical_map(
             UVF_SPHERE_CIRCLE_PATTERNS => SphereMethod::CirclePatterns,
             m => return Err(Error::InvalidArgument(format!("unknown sphere method {m}; use one of UVF_SPHERE_*"))),
         };
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let flipped = borrow_slice_mut(flipped_out, 1, "flipped_out")?;
         let out = borrow_slice_mut(sphere_out, checked_count(vertex_count, 3, "sphere")?, "sphere_out")?;
         let mut callback = progress_closure(o.progress, o.progress_user);

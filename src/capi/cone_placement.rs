@@ -1,7 +1,8 @@
 //! C ABI of the automatic cone placement (`methods::cone_placement`).
 
 use super::status::UvfStatus;
-use super::{borrow_slice_mut, guard, mesh_from_raw, progress_closure, read_options, UvfProgressFn};
+use super::MeshSource;
+use super::{borrow_slice_mut, guard, progress_closure, read_options, UvfProgressFn};
 use crate::error::Error;
 use crate::methods::cone_placement::{place_cones, ConePlacementOptions};
 use crate::progress::Progress;
@@ -80,11 +81,64 @@ pub unsafe extern "C" fn uvf_place_cones(
     count_out: *mut usize,
     max_log_scale_out: *mut f64,
 ) -> UvfStatus {
+    unsafe {
+        place_cones_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            cone_vertices_out,
+            cone_curvatures_out,
+            count_out,
+            max_log_scale_out,
+        )
+    }
+}
+
+/// `uvf_place_cones` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_place_cones`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn uvf_mesh_place_cones(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfConePlacementOptions,
+    cone_vertices_out: *mut u32,
+    cone_curvatures_out: *mut f64,
+    count_out: *mut usize,
+    max_log_scale_out: *mut f64,
+) -> UvfStatus {
+    unsafe {
+        place_cones_from(
+            MeshSource::Handle(mesh),
+            options,
+            cone_vertices_out,
+            cone_curvatures_out,
+            count_out,
+            max_log_scale_out,
+        )
+    }
+}
+
+/// `uvf_place_cones` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_place_cones`.
+#[allow(clippy::too_many_arguments)]
+unsafe fn place_cones_from(
+    source: MeshSource,
+    options: *const UvfConePlacementOptions,
+    cone_vertices_out: *mut u32,
+    cone_curvatures_out: *mut f64,
+    count_out: *mut usize,
+    max_log_scale_out: *mut f64,
+) -> UvfStatus {
     guard(|| {
+        let (vertex_count, _) = unsafe { source.counts() }?;
         let full = std::mem::size_of::<UvfConePlacementOptions>();
         let o = read_options(options, UvfConePlacementOptions::default(), full, "UvfConePlacementOptions")?;
         let opts = ConePlacementOptions { max_cones: o.max_cones, max_log_scale: o.max_log_scale };
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let capacity = (o.max_cones as usize).min(vertex_count);
         // Checked before the work so that a bad output pointer leaves everything untouched.
         borrow_slice_mut(cone_vertices_out, capacity, "cone_vertices_out")?;

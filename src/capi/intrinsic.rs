@@ -6,10 +6,10 @@ use super::methods::{
     distribution_from_code, shape_from_parts, UvfFixedBoundaryOptions, UVF_BOUNDARY_CIRCLE, UVF_DISTRIBUTION_CHORD,
 };
 use super::status::UvfStatus;
+use super::MeshSource;
 use super::SizedOut;
 use super::{
-    borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, write_uv,
-    UvfProgressFn,
+    borrow_slice, borrow_slice_mut, checked_count, guard, progress_closure, read_options, write_uv, UvfProgressFn,
 };
 use crate::error::{Error, Result};
 use crate::methods::boundary_optimization::{boundary_optimized_map, BoundaryOptimizationOptions};
@@ -104,6 +104,46 @@ pub unsafe extern "C" fn uvf_constrained_fixed_boundary_map(
     constraint_count: usize,
     uv_out: *mut f64,
 ) -> UvfStatus {
+    unsafe {
+        constrained_fixed_boundary_map_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            constraints,
+            constraint_count,
+            uv_out,
+        )
+    }
+}
+
+/// `uvf_constrained_fixed_boundary_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_constrained_fixed_boundary_map`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_constrained_fixed_boundary_map(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfFixedBoundaryOptions,
+    constraints: *const UvfPointConstraint,
+    constraint_count: usize,
+    uv_out: *mut f64,
+) -> UvfStatus {
+    unsafe {
+        constrained_fixed_boundary_map_from(MeshSource::Handle(mesh), options, constraints, constraint_count, uv_out)
+    }
+}
+
+/// `uvf_constrained_fixed_boundary_map` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_constrained_fixed_boundary_map`.
+unsafe fn constrained_fixed_boundary_map_from(
+    source: MeshSource,
+    options: *const UvfFixedBoundaryOptions,
+    constraints: *const UvfPointConstraint,
+    constraint_count: usize,
+    uv_out: *mut f64,
+) -> UvfStatus {
     guard(|| {
         let o = read_options(
             options,
@@ -113,7 +153,7 @@ pub unsafe extern "C" fn uvf_constrained_fixed_boundary_map(
         )?;
         let opts = super::methods::fixed_options_from(&o)?;
         let c = constraints_from(constraints, constraint_count)?;
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let uv = constrained_fixed_boundary_map(&mesh, &opts, &c, &mut Progress::new(&mut callback))?;
         write_uv(&uv, uv_out)
@@ -141,10 +181,50 @@ pub unsafe extern "C" fn uvf_constrained_natural_conformal_map(
     options: *const UvfIntrinsicToolOptions,
     uv_out: *mut f64,
 ) -> UvfStatus {
+    unsafe {
+        constrained_natural_conformal_map_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            constraints,
+            constraint_count,
+            options,
+            uv_out,
+        )
+    }
+}
+
+/// `uvf_constrained_natural_conformal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_constrained_natural_conformal_map`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_constrained_natural_conformal_map(
+    mesh: *const super::mesh_handle::UvfMesh,
+    constraints: *const UvfPointConstraint,
+    constraint_count: usize,
+    options: *const UvfIntrinsicToolOptions,
+    uv_out: *mut f64,
+) -> UvfStatus {
+    unsafe {
+        constrained_natural_conformal_map_from(MeshSource::Handle(mesh), constraints, constraint_count, options, uv_out)
+    }
+}
+
+/// `uvf_constrained_natural_conformal_map` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_constrained_natural_conformal_map`.
+unsafe fn constrained_natural_conformal_map_from(
+    source: MeshSource,
+    constraints: *const UvfPointConstraint,
+    constraint_count: usize,
+    options: *const UvfIntrinsicToolOptions,
+    uv_out: *mut f64,
+) -> UvfStatus {
     guard(|| {
         let o = read_options(options, UvfIntrinsicToolOptions::default(), TOOL_OPTIONS_V1, "UvfIntrinsicToolOptions")?;
         let c = constraints_from(constraints, constraint_count)?;
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let uv = constrained_natural_conformal_map(&mesh, &c, &mut Progress::new(&mut callback))?;
         write_uv(&uv, uv_out)
@@ -172,12 +252,55 @@ pub unsafe extern "C" fn uvf_pinned_natural_conformal_map(
     options: *const UvfIntrinsicToolOptions,
     uv_out: *mut f64,
 ) -> UvfStatus {
+    unsafe {
+        pinned_natural_conformal_map_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            pin_vertices,
+            pin_uv,
+            pin_count,
+            options,
+            uv_out,
+        )
+    }
+}
+
+/// `uvf_pinned_natural_conformal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_pinned_natural_conformal_map`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_pinned_natural_conformal_map(
+    mesh: *const super::mesh_handle::UvfMesh,
+    pin_vertices: *const u32,
+    pin_uv: *const f64,
+    pin_count: usize,
+    options: *const UvfIntrinsicToolOptions,
+    uv_out: *mut f64,
+) -> UvfStatus {
+    unsafe {
+        pinned_natural_conformal_map_from(MeshSource::Handle(mesh), pin_vertices, pin_uv, pin_count, options, uv_out)
+    }
+}
+
+/// `uvf_pinned_natural_conformal_map` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_pinned_natural_conformal_map`.
+unsafe fn pinned_natural_conformal_map_from(
+    source: MeshSource,
+    pin_vertices: *const u32,
+    pin_uv: *const f64,
+    pin_count: usize,
+    options: *const UvfIntrinsicToolOptions,
+    uv_out: *mut f64,
+) -> UvfStatus {
     guard(|| {
         let o = read_options(options, UvfIntrinsicToolOptions::default(), TOOL_OPTIONS_V1, "UvfIntrinsicToolOptions")?;
         let v = borrow_slice(pin_vertices, pin_count, "pin_vertices")?;
         let p = borrow_slice(pin_uv, checked_count(pin_count, 2, "pin")?, "pin_uv")?;
         let pins: Vec<(u32, [f64; 2])> = v.iter().zip(p.chunks_exact(2)).map(|(&v, p)| (v, [p[0], p[1]])).collect();
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let uv = pinned_natural_conformal_map(&mesh, &pins, &mut Progress::new(&mut callback))?;
         write_uv(&uv, uv_out)
@@ -213,6 +336,44 @@ pub unsafe extern "C" fn uvf_boundary_editor_new(
     options: *const UvfIntrinsicToolOptions,
     editor_out: *mut *mut UvfBoundaryEditor,
 ) -> UvfStatus {
+    unsafe {
+        boundary_editor_new_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            lambda,
+            mu,
+            options,
+            editor_out,
+        )
+    }
+}
+
+/// `uvf_boundary_editor_new` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_boundary_editor_new`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_boundary_editor_new(
+    mesh: *const super::mesh_handle::UvfMesh,
+    lambda: f64,
+    mu: f64,
+    options: *const UvfIntrinsicToolOptions,
+    editor_out: *mut *mut UvfBoundaryEditor,
+) -> UvfStatus {
+    unsafe { boundary_editor_new_from(MeshSource::Handle(mesh), lambda, mu, options, editor_out) }
+}
+
+/// `uvf_boundary_editor_new` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_boundary_editor_new`.
+unsafe fn boundary_editor_new_from(
+    source: MeshSource,
+    lambda: f64,
+    mu: f64,
+    options: *const UvfIntrinsicToolOptions,
+    editor_out: *mut *mut UvfBoundaryEditor,
+) -> UvfStatus {
     if !editor_out.is_null() {
         editor_out.write(std::ptr::null_mut());
     }
@@ -221,7 +382,7 @@ pub unsafe extern "C" fn uvf_boundary_editor_new(
             return Err(Error::InvalidArgument("editor_out is NULL".into()));
         }
         let o = read_options(options, UvfIntrinsicToolOptions::default(), TOOL_OPTIONS_V1, "UvfIntrinsicToolOptions")?;
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let inner = BoundaryEditor::new(&mesh, lambda, mu, &mut Progress::new(&mut callback))?;
         // SAFETY: checked non-null above.
@@ -425,12 +586,48 @@ pub unsafe extern "C" fn uvf_spectral_conformal_map(
     uv_out: *mut f64,
     report_out: *mut UvfSpectralReport,
 ) -> UvfStatus {
+    unsafe {
+        spectral_conformal_map_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            uv_out,
+            report_out,
+        )
+    }
+}
+
+/// `uvf_spectral_conformal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_spectral_conformal_map`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_spectral_conformal_map(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfSpectralOptions,
+    uv_out: *mut f64,
+    report_out: *mut UvfSpectralReport,
+) -> UvfStatus {
+    unsafe { spectral_conformal_map_from(MeshSource::Handle(mesh), options, uv_out, report_out) }
+}
+
+/// `uvf_spectral_conformal_map` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_spectral_conformal_map`.
+unsafe fn spectral_conformal_map_from(
+    source: MeshSource,
+    options: *const UvfSpectralOptions,
+    uv_out: *mut f64,
+    report_out: *mut UvfSpectralReport,
+) -> UvfStatus {
     guard(|| {
+        let (vertex_count, _) = unsafe { source.counts() }?;
         // Checked before the work, so that a bad report pointer leaves every output untouched.
         let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfSpectralReport") }?;
         let o = read_options(options, UvfSpectralOptions::default(), SPECTRAL_OPTIONS_V1, "UvfSpectralOptions")?;
         let opts = SpectralOptions { iterations: o.iterations as usize, tolerance: o.tolerance };
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         // Checked before the work so that a bad output pointer leaves everything untouched.
         borrow_slice_mut(uv_out, checked_count(vertex_count, 2, "uv")?, "uv_out")?;
         let mut callback = progress_closure(o.progress, o.progress_user);
@@ -558,7 +755,43 @@ pub unsafe extern "C" fn uvf_intrinsic_optimal_map(
     uv_out: *mut f64,
     report_out: *mut UvfIntrinsicOptimalReport,
 ) -> UvfStatus {
+    unsafe {
+        intrinsic_optimal_map_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            uv_out,
+            report_out,
+        )
+    }
+}
+
+/// `uvf_intrinsic_optimal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_intrinsic_optimal_map`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_intrinsic_optimal_map(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfIntrinsicOptimalOptions,
+    uv_out: *mut f64,
+    report_out: *mut UvfIntrinsicOptimalReport,
+) -> UvfStatus {
+    unsafe { intrinsic_optimal_map_from(MeshSource::Handle(mesh), options, uv_out, report_out) }
+}
+
+/// `uvf_intrinsic_optimal_map` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_intrinsic_optimal_map`.
+unsafe fn intrinsic_optimal_map_from(
+    source: MeshSource,
+    options: *const UvfIntrinsicOptimalOptions,
+    uv_out: *mut f64,
+    report_out: *mut UvfIntrinsicOptimalReport,
+) -> UvfStatus {
     guard(|| {
+        let (vertex_count, _) = unsafe { source.counts() }?;
         // Checked before the work, so that a bad report pointer leaves every output untouched.
         let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfIntrinsicOptimalReport") }?;
         let o = read_options(
@@ -574,7 +807,7 @@ pub unsafe extern "C" fn uvf_intrinsic_optimal_map(
             lambda_min: o.lambda_min,
             lambda_max: o.lambda_max,
         };
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         borrow_slice_mut(uv_out, checked_count(vertex_count, 2, "uv")?, "uv_out")?;
         let mut callback = progress_closure(o.progress, o.progress_user);
         let r = near_optimal_map(&mesh, &opts, &mut Progress::new(&mut callback))?;
@@ -717,7 +950,60 @@ pub unsafe extern "C" fn uvf_boundary_optimized_map(
     history_capacity: usize,
     report_out: *mut UvfBoundaryOptimizationReport,
 ) -> UvfStatus {
+    unsafe {
+        boundary_optimized_map_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            uv_out,
+            history_out,
+            history_capacity,
+            report_out,
+        )
+    }
+}
+
+/// `uvf_boundary_optimized_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_boundary_optimized_map`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn uvf_mesh_boundary_optimized_map(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfBoundaryOptimizationOptions,
+    uv_out: *mut f64,
+    history_out: *mut f64,
+    history_capacity: usize,
+    report_out: *mut UvfBoundaryOptimizationReport,
+) -> UvfStatus {
+    unsafe {
+        boundary_optimized_map_from(
+            MeshSource::Handle(mesh),
+            options,
+            uv_out,
+            history_out,
+            history_capacity,
+            report_out,
+        )
+    }
+}
+
+/// `uvf_boundary_optimized_map` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_boundary_optimized_map`.
+#[allow(clippy::too_many_arguments)]
+unsafe fn boundary_optimized_map_from(
+    source: MeshSource,
+    options: *const UvfBoundaryOptimizationOptions,
+    uv_out: *mut f64,
+    history_out: *mut f64,
+    history_capacity: usize,
+    report_out: *mut UvfBoundaryOptimizationReport,
+) -> UvfStatus {
     guard(|| {
+        let (vertex_count, _) = unsafe { source.counts() }?;
         // Checked before the work, so that a bad report pointer leaves every output untouched.
         let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfBoundaryOptimizationReport") }?;
         let o = read_options(
@@ -735,7 +1021,7 @@ pub unsafe extern "C" fn uvf_boundary_optimized_map(
             iterations: o.iterations as usize,
             tolerance: o.tolerance,
         };
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         borrow_slice_mut(uv_out, checked_count(vertex_count, 2, "uv")?, "uv_out")?;
         borrow_slice_mut(history_out, history_capacity, "history_out")?;
         let mut callback = progress_closure(o.progress, o.progress_user);

@@ -1,6 +1,7 @@
 //! Mesh validation and topology queries.
 
 use super::status::UvfStatus;
+use super::MeshSource;
 use super::SizedOut;
 use super::{borrow_slice_mut, guard, mesh_from_raw};
 use crate::error::Error;
@@ -77,8 +78,54 @@ pub unsafe extern "C" fn uvf_boundary_loops(
     loop_offsets_out: *mut u32,
     offsets_capacity: usize,
 ) -> UvfStatus {
+    unsafe {
+        boundary_loops_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            vertices_out,
+            vertices_capacity,
+            loop_offsets_out,
+            offsets_capacity,
+        )
+    }
+}
+
+/// `uvf_boundary_loops` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_boundary_loops`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_boundary_loops(
+    mesh: *const super::mesh_handle::UvfMesh,
+    vertices_out: *mut u32,
+    vertices_capacity: usize,
+    loop_offsets_out: *mut u32,
+    offsets_capacity: usize,
+) -> UvfStatus {
+    unsafe {
+        boundary_loops_from(
+            MeshSource::Handle(mesh),
+            vertices_out,
+            vertices_capacity,
+            loop_offsets_out,
+            offsets_capacity,
+        )
+    }
+}
+
+/// `uvf_boundary_loops` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_boundary_loops`.
+unsafe fn boundary_loops_from(
+    source: MeshSource,
+    vertices_out: *mut u32,
+    vertices_capacity: usize,
+    loop_offsets_out: *mut u32,
+    offsets_capacity: usize,
+) -> UvfStatus {
     guard(|| {
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let loops = mesh.boundary_loops();
         let total: usize = loops.iter().map(Vec::len).sum();
         if vertices_capacity < total || offsets_capacity < loops.len() + 1 {
@@ -113,8 +160,32 @@ pub unsafe extern "C" fn uvf_triangle_components(
     triangle_count: usize,
     component_out: *mut u32,
 ) -> UvfStatus {
+    unsafe {
+        triangle_components_from(MeshSource::arrays(positions, vertex_count, triangles, triangle_count), component_out)
+    }
+}
+
+/// `uvf_triangle_components` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_triangle_components`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_triangle_components(
+    mesh: *const super::mesh_handle::UvfMesh,
+    component_out: *mut u32,
+) -> UvfStatus {
+    unsafe { triangle_components_from(MeshSource::Handle(mesh), component_out) }
+}
+
+/// `uvf_triangle_components` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_triangle_components`.
+unsafe fn triangle_components_from(source: MeshSource, component_out: *mut u32) -> UvfStatus {
     guard(|| {
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let (_, triangle_count) = unsafe { source.counts() }?;
+        let mesh = unsafe { source.mesh() }?;
         let out = borrow_slice_mut(component_out, triangle_count, "component_out")?;
         out.copy_from_slice(mesh.triangle_components());
         Ok(())

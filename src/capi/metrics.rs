@@ -115,6 +115,42 @@ pub unsafe extern "C" fn uvf_metrics(
     })
 }
 
+/// `uvf_metrics` on a mesh handle of `uvf_mesh_new`: its positions and triangles (the
+/// triangulation, `info.triangles` of them), `uv` per vertex (`uv_triangles` NULL, `uv_count`
+/// equal to the vertex count) or per corner (`uv_triangles`: 3 indices per triangle).
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_metrics`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_metrics(
+    mesh: *const super::mesh_handle::UvfMesh,
+    uv: *const f64,
+    uv_count: usize,
+    uv_triangles: *const u32,
+    out: *mut UvfMetrics,
+) -> UvfStatus {
+    guard(|| {
+        let out = unsafe { super::SizedOut::required(out, "out", "UvfMetrics") }?;
+        let m = &unsafe { super::mesh_handle::handle(mesh) }?.mesh;
+        let q = borrow_slice(uv, checked_count(uv_count, 2, "uv")?, "uv")?;
+        let uv_t = if uv_triangles.is_null() {
+            if uv_count != m.vertex_count() {
+                return Err(Error::InvalidArgument(format!(
+                    "uv_triangles is NULL (per-vertex UVs) but uv_count {uv_count} differs from the mesh's {} vertices",
+                    m.vertex_count()
+                )));
+            }
+            m.triangles().to_vec()
+        } else {
+            let flat = borrow_slice(uv_triangles, checked_count(m.triangle_count(), 3, "triangle")?, "uv_triangles")?;
+            as_triangles(flat)
+        };
+        let d = distortion(m.points(), m.triangles(), &as_points::<2>(q), &uv_t)?;
+        out.write(UvfMetrics::from(&d));
+        Ok(())
+    })
+}
+
 /// What `uvf_check_layout` found (see there).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]

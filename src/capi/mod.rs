@@ -127,6 +127,16 @@ pub(crate) enum MeshRef<'a> {
     Borrowed(&'a TriMesh),
 }
 
+impl MeshRef<'_> {
+    /// The mesh as an owned value (a copy of a handle's), for results that keep it.
+    pub(crate) fn into_owned(self) -> TriMesh {
+        match self {
+            MeshRef::Built(m) => m,
+            MeshRef::Borrowed(m) => m.clone(),
+        }
+    }
+}
+
 impl std::ops::Deref for MeshRef<'_> {
     type Target = TriMesh;
     fn deref(&self) -> &TriMesh {
@@ -145,6 +155,20 @@ impl MeshSource {
         triangle_count: usize,
     ) -> Self {
         MeshSource::Arrays { positions, vertex_count, triangles, triangle_count }
+    }
+
+    /// The vertex and triangle counts (of the arrays as given, or of the handle's mesh).
+    ///
+    /// # Safety
+    /// A handle must be live or NULL.
+    pub(crate) unsafe fn counts(self) -> Result<(usize, usize)> {
+        match self {
+            MeshSource::Arrays { vertex_count, triangle_count, .. } => Ok((vertex_count, triangle_count)),
+            MeshSource::Handle(mesh) => {
+                let m = &unsafe { mesh_handle::handle(mesh) }?.mesh;
+                Ok((m.vertex_count(), m.triangle_count()))
+            }
+        }
     }
 
     /// The mesh: validated and built from the arrays, or the handle's.

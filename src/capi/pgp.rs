@@ -3,11 +3,10 @@
 //! handle with the singularity lists (`uvf_pgp_*` accessors, `uvf_pgp_free`).
 
 use super::status::UvfStatus;
+use super::MeshSource;
 use super::SizedOut;
 use super::UvfProgressFn;
-use super::{
-    borrow_slice, borrow_slice_mut, checked_count, copy_out, guard, mesh_from_raw, progress_closure, read_options,
-};
+use super::{borrow_slice, borrow_slice_mut, checked_count, copy_out, guard, progress_closure, read_options};
 use crate::error::{Error, Result};
 use crate::methods::pgp::charts::{chart_parameterization, ChartKind, ChartParameterization};
 use crate::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
@@ -98,10 +97,54 @@ pub unsafe extern "C" fn uvf_curvature(
     kmin_out: *mut f64,
     kmax_out: *mut f64,
 ) -> UvfStatus {
+    unsafe {
+        curvature_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            kmin_direction_out,
+            kmax_direction_out,
+            kmin_out,
+            kmax_out,
+        )
+    }
+}
+
+/// `uvf_curvature` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_curvature`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_curvature(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfCurvatureOptions,
+    kmin_direction_out: *mut f64,
+    kmax_direction_out: *mut f64,
+    kmin_out: *mut f64,
+    kmax_out: *mut f64,
+) -> UvfStatus {
+    unsafe {
+        curvature_from(MeshSource::Handle(mesh), options, kmin_direction_out, kmax_direction_out, kmin_out, kmax_out)
+    }
+}
+
+/// `uvf_curvature` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_curvature`.
+unsafe fn curvature_from(
+    source: MeshSource,
+    options: *const UvfCurvatureOptions,
+    kmin_direction_out: *mut f64,
+    kmax_direction_out: *mut f64,
+    kmin_out: *mut f64,
+    kmax_out: *mut f64,
+) -> UvfStatus {
     guard(|| {
+        let (vertex_count, _) = unsafe { source.counts() }?;
         let o = read_options(options, UvfCurvatureOptions::default(), CURVATURE_OPTIONS_V1, "UvfCurvatureOptions")?;
         let opts = curvature_options(o.neighbourhood, o.rings, o.radius)?;
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let n3 = checked_count(vertex_count, 3, "vertex")?;
         let kmin_dir = optional_out(kmin_direction_out, n3, "kmin_direction_out")?;
         let kmax_dir = optional_out(kmax_direction_out, n3, "kmax_direction_out")?;
@@ -387,10 +430,46 @@ pub unsafe extern "C" fn uvf_pgp(
     corner_coords_out: *mut f64,
     result_out: *mut *mut UvfPgp,
 ) -> UvfStatus {
+    unsafe {
+        pgp_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            corner_coords_out,
+            result_out,
+        )
+    }
+}
+
+/// `uvf_pgp` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_pgp`.
+#[no_mangle]
+pub unsafe extern "C" fn uvf_mesh_pgp(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfPgpOptions,
+    corner_coords_out: *mut f64,
+    result_out: *mut *mut UvfPgp,
+) -> UvfStatus {
+    unsafe { pgp_from(MeshSource::Handle(mesh), options, corner_coords_out, result_out) }
+}
+
+/// `uvf_pgp` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_pgp`.
+unsafe fn pgp_from(
+    source: MeshSource,
+    options: *const UvfPgpOptions,
+    corner_coords_out: *mut f64,
+    result_out: *mut *mut UvfPgp,
+) -> UvfStatus {
     guard(|| {
+        let (vertex_count, triangle_count) = unsafe { source.counts() }?;
         let o = read_options(options, UvfPgpOptions::default(), PGP_OPTIONS_V1, "UvfPgpOptions")?;
         let opts = pgp_options(&o, vertex_count)?;
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let coords =
             borrow_slice_mut(corner_coords_out, checked_count(triangle_count, 6, "corner")?, "corner_coords_out")?;
         let handle_slot =
@@ -403,7 +482,7 @@ pub unsafe extern "C" fn uvf_pgp(
         }
         if let Some(slot) = handle_slot {
             let info = summary(&result, &q);
-            slot[0] = Box::into_raw(Box::new(UvfPgp { mesh, result, info }));
+            slot[0] = Box::into_raw(Box::new(UvfPgp { mesh: mesh.into_owned(), result, info }));
         }
         Ok(())
     })

@@ -2,10 +2,9 @@
 
 use super::pgp::UvfQuadMesh;
 use super::status::UvfStatus;
+use super::MeshSource;
 use super::SizedOut;
-use super::{
-    borrow_slice, borrow_slice_mut, checked_count, guard, mesh_from_raw, progress_closure, read_options, UvfProgressFn,
-};
+use super::{borrow_slice, borrow_slice_mut, checked_count, guard, progress_closure, read_options, UvfProgressFn};
 use crate::error::{Error, Result};
 use crate::methods::pgp::isolines::check_density;
 use crate::methods::quadcover::{quad_mesh, quadcover, QuadCoverOptions, QuadCoverResult};
@@ -158,11 +157,55 @@ pub unsafe extern "C" fn uvf_quadcover(
     cone_index_out: *mut i32,
     report_out: *mut UvfQuadCoverReport,
 ) -> UvfStatus {
+    unsafe {
+        quadcover_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            field,
+            corner_uv_out,
+            cone_index_out,
+            report_out,
+        )
+    }
+}
+
+/// `uvf_quadcover` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_quadcover`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn uvf_mesh_quadcover(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfQuadCoverOptions,
+    field: *const f64,
+    corner_uv_out: *mut f64,
+    cone_index_out: *mut i32,
+    report_out: *mut UvfQuadCoverReport,
+) -> UvfStatus {
+    unsafe { quadcover_from(MeshSource::Handle(mesh), options, field, corner_uv_out, cone_index_out, report_out) }
+}
+
+/// `uvf_quadcover` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_quadcover`.
+#[allow(clippy::too_many_arguments)]
+unsafe fn quadcover_from(
+    source: MeshSource,
+    options: *const UvfQuadCoverOptions,
+    field: *const f64,
+    corner_uv_out: *mut f64,
+    cone_index_out: *mut i32,
+    report_out: *mut UvfQuadCoverReport,
+) -> UvfStatus {
     guard(|| {
+        let (vertex_count, triangle_count) = unsafe { source.counts() }?;
         // Checked before the work, so that a bad report pointer leaves every output untouched.
         let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfQuadCoverReport") }?;
         let (opts, progress, progress_user) = options_from_c(options, field, triangle_count)?;
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         // Checked before the work so that a bad output pointer leaves everything untouched.
         let uv = borrow_slice_mut(corner_uv_out, checked_count(triangle_count, 6, "corner")?, "corner_uv_out")?;
         let cones = if cone_index_out.is_null() {
@@ -214,13 +257,57 @@ pub unsafe extern "C" fn uvf_quadcover_quad_mesh(
     mesh_out: *mut *mut UvfQuadMesh,
     report_out: *mut UvfQuadCoverReport,
 ) -> UvfStatus {
+    unsafe {
+        quadcover_quad_mesh_from(
+            MeshSource::arrays(positions, vertex_count, triangles, triangle_count),
+            options,
+            field,
+            density,
+            mesh_out,
+            report_out,
+        )
+    }
+}
+
+/// `uvf_quadcover_quad_mesh` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+/// the same options, outputs and statuses, with the handle's vertex and triangle counts.
+///
+/// # Safety
+/// `mesh` must be a live handle or NULL; the other pointers as for `uvf_quadcover_quad_mesh`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn uvf_mesh_quadcover_quad_mesh(
+    mesh: *const super::mesh_handle::UvfMesh,
+    options: *const UvfQuadCoverOptions,
+    field: *const f64,
+    density: f64,
+    mesh_out: *mut *mut UvfQuadMesh,
+    report_out: *mut UvfQuadCoverReport,
+) -> UvfStatus {
+    unsafe { quadcover_quad_mesh_from(MeshSource::Handle(mesh), options, field, density, mesh_out, report_out) }
+}
+
+/// `uvf_quadcover_quad_mesh` on either kind of mesh.
+///
+/// # Safety
+/// As for `uvf_quadcover_quad_mesh`.
+#[allow(clippy::too_many_arguments)]
+unsafe fn quadcover_quad_mesh_from(
+    source: MeshSource,
+    options: *const UvfQuadCoverOptions,
+    field: *const f64,
+    density: f64,
+    mesh_out: *mut *mut UvfQuadMesh,
+    report_out: *mut UvfQuadCoverReport,
+) -> UvfStatus {
     guard(|| {
+        let (_, triangle_count) = unsafe { source.counts() }?;
         // Checked before the work, so that a bad report pointer leaves every output untouched.
         let report_out = unsafe { SizedOut::optional(report_out, "report_out", "UvfQuadCoverReport") }?;
         let (opts, progress, progress_user) = options_from_c(options, field, triangle_count)?;
         check_density(density)?;
         let slot = borrow_slice_mut(mesh_out, 1, "mesh_out")?;
-        let mesh = mesh_from_raw(positions, vertex_count, triangles, triangle_count)?;
+        let mesh = unsafe { source.mesh() }?;
         let mut callback = progress_closure(progress, progress_user);
         let result = quadcover(&mesh, &opts, &mut Progress::new(&mut callback))?;
         let quads = quad_mesh(&mesh, &result, density)?;

@@ -165,6 +165,30 @@ int main(void) {
               uvf_mesh_nonlinear_map(mesh, NULL, uv_handle, NULL) == UVF_OK && memcmp(uv_flat, uv_handle, sizeof uv_flat) == 0,
           "SLIM: handle = flat");
 
+    {
+        UvfMetrics flat_metrics, handle_metrics;
+        static uint32_t flat_loop[NV], handle_loop[NV], flat_offsets[2], handle_offsets[2];
+        flat_metrics.struct_size = handle_metrics.struct_size = sizeof flat_metrics;
+        check(uvf_spectral_conformal_map(packed, NV, fan, nt, NULL, uv_flat, NULL) == UVF_OK &&
+                  uvf_mesh_spectral_conformal_map(mesh, NULL, uv_handle, NULL) == UVF_OK &&
+                  memcmp(uv_flat, uv_handle, sizeof uv_flat) == 0,
+              "spectral conformal map: handle = flat");
+        check(uvf_circle_pattern_map(packed, NV, fan, nt, NULL, uv_flat, NULL) == UVF_OK &&
+                  uvf_mesh_circle_pattern_map(mesh, NULL, uv_handle, NULL) == UVF_OK &&
+                  memcmp(uv_flat, uv_handle, sizeof uv_flat) == 0,
+              "circle patterns: handle = flat");
+        check(uvf_metrics(packed, NV, fan, nt, uv_flat, NV, NULL, &flat_metrics) == UVF_OK &&
+                  uvf_mesh_metrics(mesh, uv_flat, NV, NULL, &handle_metrics) == UVF_OK &&
+                  flat_metrics.stretch_l2 == handle_metrics.stretch_l2 &&
+                  flat_metrics.angle_mean == handle_metrics.angle_mean && handle_metrics.flipped == 0,
+              "metrics: handle = flat");
+        check(uvf_boundary_loops(packed, NV, fan, nt, flat_loop, NV, flat_offsets, 2) == UVF_OK &&
+                  uvf_mesh_boundary_loops(mesh, handle_loop, NV, handle_offsets, 2) == UVF_OK &&
+                  flat_offsets[1] == handle_offsets[1] &&
+                  memcmp(flat_loop, handle_loop, flat_offsets[1] * sizeof *flat_loop) == 0,
+              "boundary loops: handle = flat");
+    }
+
     /* The default unwrap, its per-triangle-corner layout mapped back to the faces' corners. */
     check(uvf_mesh_unwrap(mesh, NULL, &unwrap) == UVF_OK && uvf_unwrap_atlas(unwrap, &layout) == UVF_OK,
           "handle unwrap");

@@ -442,6 +442,37 @@ void check_unwrap(const std::string &name, const Arrays &a) {
     expect_error(UVF_INVALID_ARGUMENT, "max_stretch 0.5", [&] { uvflat::Unwrap(a.positions, a.triangles, bad); });
 }
 
+/// A mesh handle: the methods on it give the flat calls' results, bit for bit; a mesh of
+/// OpenMesh's float positions read in place at their stride gives the same handle.
+void check_mesh_handle(const Arrays &a) {
+    context = "mesh handle";
+    const uvflat::Mesh mesh(a.positions, a.triangles);
+    expect(mesh.vertex_count() == a.vertex_count() && mesh.triangles() == a.triangles, "the handle keeps the triangles");
+    expect(uvflat::natural_conformal_map(mesh) == uvflat::natural_conformal_map(a.positions, a.triangles),
+           "natural conformal map: handle = flat");
+    expect(uvflat::fixed_boundary_map(mesh) == uvflat::fixed_boundary_map(a.positions, a.triangles),
+           "fixed boundary map: handle = flat");
+    const uvflat::Unwrap unwrap(mesh);
+    expect(unwrap.report().flipped == 0 && unwrap.report().overlaps == 0, "unwrap of the handle is valid");
+    std::vector<float> floats(a.positions.begin(), a.positions.end());
+    UvfMeshDesc desc;
+    uvf_mesh_desc_default(&desc);
+    desc.positions = floats.data();
+    desc.position_type = UVF_SCALAR_FLOAT;
+    desc.vertex_count = a.vertex_count();
+    desc.indices = a.triangles.data();
+    desc.face_count = a.triangles.size() / 3;
+    const uvflat::Mesh float_mesh(desc);
+    expect(float_mesh.info().triangles == a.triangles.size() / 3, "a float mesh has the triangles");
+    expect_error(UVF_INVALID_ARGUMENT, "a description without arrays", [] {
+        UvfMeshDesc empty;
+        uvf_mesh_desc_default(&empty);
+        empty.vertex_count = 3;
+        empty.face_count = 1;
+        uvflat::Mesh bad(empty);
+    });
+}
+
 /// Triangle components of two disjoint copies of a mesh, the ABI version, bad input.
 void check_components(const Arrays &a) {
     context = "triangle components";
@@ -634,6 +665,7 @@ int main(int argc, char **argv) {
     run("atlas of eight", [&] { check_atlas("closed_g2_eight.obj", eight); });
     run("atlas of the disk", [&] { check_atlas("disk_nefertiti_small.obj", disk); });
     run("intrinsic tools", [&] { check_intrinsic_tools(disk); });
+    run("mesh handle", [&] { check_mesh_handle(disk); });
     run("unwrap of the torus", [&] { check_unwrap("closed_g1_torus.obj", torus); });
     run("unwrap of the disk", [&] { check_unwrap("disk_nefertiti_small.obj", disk); });
     std::printf("%d failure(s)\n", failures);

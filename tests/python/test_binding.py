@@ -91,6 +91,75 @@ def test_the_thread_count_is_set_before_the_workers_exist_and_fixed_after():
     assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr
 
 
+def blender_like_mesh():
+    """Float positions in a 32-byte structured vertex array (co, normal, flags), quads and one
+    convex 8-gon (a half disk above the grid's last top edge); and the same mesh as packed
+    doubles with fan triangles."""
+    gx, gy, rim = 7, 5, 6
+    vertex = np.dtype([("co", np.float32, 3), ("normal", np.float32, 3), ("flags", np.uint32), ("pad", np.uint32)])
+    vertices = np.zeros(gx * gy + rim, dtype=vertex)
+    x, y = np.meshgrid(np.linspace(0, 1, gx), np.linspace(0, 1, gy))
+    grid = np.stack([x.ravel(), y.ravel(), 0.2 * np.sin(3 * x.ravel()) * np.cos(2 * y.ravel())], axis=1)
+    vertices["co"][: gx * gy] = grid
+    a, b = grid[gx * gy - 2], grid[gx * gy - 1]
+    angles = np.pi * np.arange(1, rim + 1) / (rim + 1)
+    s = 0.5 + 0.5 * np.cos(angles)
+    r = 0.5 * (b[0] - a[0])
+    arc = np.stack([0.5 * (a[0] + b[0]) + r * np.cos(angles), 1 + r * np.sin(angles), a[2] + s * (b[2] - a[2])], axis=1)
+    vertices["co"][gx * gy :] = arc
+    faces, sizes = [], []
+    for j in range(gy - 1):
+        for i in range(gx - 1):
+            v = j * gx + i
+            faces += [v, v + 1, v + 1 + gx, v + gx]
+            sizes.append(4)
+    faces += [gx * gy - 2, gx * gy - 1] + list(range(gx * gy, gx * gy + rim))
+    sizes.append(2 + rim)
+    fan, start = [], 0
+    for n in sizes:
+        fan += [[faces[start], faces[start + k], faces[start + k + 1]] for k in range(1, n - 1)]
+        start += n
+    return vertices, np.array(faces, dtype=np.uint32), np.array(sizes), vertices["co"].astype(np.float64), np.array(fan)
+
+
+def test_a_mesh_handle_of_float_strided_polygons_gives_the_flat_calls_results():
+    vertices, faces, sizes, packed, fan = blender_like_mesh()
+    assert vertices["co"].strides[0] == 32  # read in place, at its stride
+    mesh = uvflat.Mesh(vertices["co"], faces, face_sizes=sizes)
+    assert (mesh.vertex_count, mesh.triangle_count, mesh.corner_count) == (len(packed), len(fan), len(faces))
+    np.testing.assert_array_equal(mesh.triangles, fan)
+    np.testing.assert_array_equal(mesh.triangle_faces, np.repeat(np.arange(len(sizes)), sizes - 2))
+    np.testing.assert_array_equal(uvflat.natural_conformal_map(mesh), uvflat.natural_conformal_map(packed, fan))
+    np.testing.assert_array_equal(uvflat.abf(mesh)[0], uvflat.abf(packed, fan)[0])
+    np.testing.assert_array_equal(
+        uvflat.fixed_boundary_map(mesh, weights="floater"), uvflat.fixed_boundary_map(packed, fan, weights="floater")
+    )
+    np.testing.assert_array_equal(uvflat.nonlinear_map(mesh, method="slim")[0], uvflat.nonlinear_map(packed, fan, "slim")[0])
+    result = uvflat.unwrap(mesh)
+    assert result.report.flipped == 0 and result.report.overlaps == 0
+    per_face_corner = mesh.face_corner_uv(result.corner_uv)
+    assert per_face_corner.shape == (len(faces), 2) and np.isfinite(per_face_corner).all()
+    mesh16 = uvflat.Mesh(vertices["co"], faces.astype(np.uint16), face_sizes=sizes)
+    np.testing.assert_array_equal(uvflat.natural_conformal_map(mesh16), uvflat.natural_conformal_map(mesh))
+    mesh.close()
+    with pytest.raises(uvflat.InvalidArgument, match="closed"):
+        uvflat.natural_conformal_map(mesh)
+
+
+def test_a_mesh_handle_refuses_bad_faces_naming_them():
+    vertices, faces, sizes, _, _ = blender_like_mesh()
+    bad = sizes.copy()
+    bad[2], bad[3] = 2, 6
+    with pytest.raises(uvflat.InvalidArgument, match="face 2"):
+        uvflat.Mesh(vertices["co"], faces, face_sizes=bad)
+    repeated = faces.copy()
+    repeated[5] = repeated[4]
+    with pytest.raises(uvflat.InvalidMesh, match="face 1"):
+        uvflat.Mesh(vertices["co"], repeated, face_sizes=sizes)
+    with pytest.raises(uvflat.InvalidArgument, match="triangles must be None"):
+        uvflat.natural_conformal_map(uvflat.Mesh(vertices["co"], faces, face_sizes=sizes), faces)
+
+
 def header_functions():
     """{name: (return type, [parameter declarations])} of every function in uvflat.h."""
     text = re.sub(r"/\*.*?\*/", "", HEADER.read_text(), flags=re.S)
@@ -141,7 +210,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 107, sorted(functions)
+    assert len(functions) == 127, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():

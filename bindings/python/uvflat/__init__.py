@@ -23,6 +23,7 @@ Python threads run in parallel; the library is reentrant and keeps its error mes
 thread. Progress callbacks run with the GIL held, in the calling thread.
 """
 
+from ._mesh import Mesh
 from ._api import (
     LayoutCheck,
     check_layout,
@@ -258,6 +259,7 @@ __all__ = [
     "UVF_WEIGHTS_MEAN_VALUE",
     "UVF_WEIGHTS_UNIFORM",
     "abi_version",
+    "Mesh",
     "set_thread_count",
     "thread_count",
     "authalic",

@@ -22,6 +22,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 
 from . import _library as L
+from ._mesh import Mesh
 from ._errors import Error, InternalError, InvalidArgument, InvalidMesh, Status, error_for_status
 
 ArrayLike = Any
@@ -187,6 +188,25 @@ def _mesh_arrays(positions: ArrayLike, triangles: ArrayLike) -> Tuple[np.ndarray
     return _as_points(positions, 3, "positions"), _as_indices(triangles, "triangles", InvalidMesh)
 
 
+def _mesh_source(positions: Any, triangles: Optional[ArrayLike]) -> Tuple[Any, Optional[np.ndarray]]:
+    """A :class:`Mesh` handle as given (``triangles`` then None), or the checked arrays."""
+    if isinstance(positions, Mesh):
+        if triangles is not None:
+            raise InvalidArgument("triangles must be None when a Mesh is given: the mesh has its own")
+        return positions, None
+    if triangles is None:
+        raise InvalidArgument("triangles is missing (it may only be left out when positions is a Mesh)")
+    return _mesh_arrays(positions, triangles)
+
+
+def _on_mesh(lib: Any, name: str, p: Any, t: Optional[np.ndarray], *rest: Any) -> int:
+    """``uvf_<name>(positions, n, triangles, m, *rest)``, or ``uvf_mesh_<name>(mesh, *rest)``
+    for a :class:`Mesh`."""
+    if isinstance(p, Mesh):
+        return getattr(lib, "uvf_mesh_" + name)(p.handle, *rest)
+    return getattr(lib, "uvf_" + name)(_f64p(p), len(p), _u32p(t), len(t), *rest)
+
+
 # --- progress -------------------------------------------------------------------------------
 
 
@@ -333,7 +353,7 @@ def _given_boundary(boundary: Any) -> Tuple[np.ndarray, np.ndarray]:
 
 def fixed_boundary_map(
     positions: ArrayLike,
-    triangles: ArrayLike,
+    triangles: Optional[ArrayLike] = None,
     *,
     weights: Weights = "mean_value",
     boundary: Boundary = "circle",
@@ -349,7 +369,7 @@ def fixed_boundary_map(
     weighted average of its neighbours; other loops are holes.
 
     Args:
-        positions: ``(n, 3)`` vertex positions.
+        positions: ``(n, 3)`` vertex positions, or a :class:`Mesh` (then no ``triangles``).
         triangles: ``(m, 3)`` vertex indices, counter-clockwise.
         weights: ``"uniform"`` (Tutte; alias ``"tutte"``), ``"floater"``, ``"authalic"``
             (DAP = Wachspress), ``"conformal"`` (DCP = discrete harmonic), ``"mean_value"``
@@ -371,7 +391,7 @@ def fixed_boundary_map(
         with a boundary), NumericalFailure, Cancelled, InternalError; or whatever ``progress``
         raised.
     """
-    p, t = _mesh_arrays(positions, triangles)
+    p, t = _mesh_source(positions, triangles)
     options = L.UvfFixedBoundaryOptions()
     L.library().uvf_fixed_boundary_options_default(byref(options))
     options.weights = _code(weights, _WEIGHTS, "weights")
@@ -396,7 +416,7 @@ def fixed_boundary_map(
     options.progress = bridge.c_function
     uv = np.empty((len(p), 2), dtype=np.float64)
     lib = L.library()
-    bridge.run(lambda: lib.uvf_fixed_boundary_map(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(uv)))
+    bridge.run(lambda: _on_mesh(lib, "fixed_boundary_map", p, t, byref(options), _f64p(uv)))
     del given_vertices, given_uv  # kept alive until here: `options` points into them
     return uv
 
@@ -484,7 +504,7 @@ def _set_two_pins(options: Any, pins: Pins) -> None:
 
 def natural_conformal_map(
     positions: ArrayLike,
-    triangles: ArrayLike,
+    triangles: Optional[ArrayLike] = None,
     *,
     pins: Optional[Pins] = None,
     progress: Optional[ProgressCallback] = None,
@@ -493,7 +513,7 @@ def natural_conformal_map(
     eq. 7): free boundary, two pinned vertices.
 
     Args:
-        positions: ``(n, 3)`` vertex positions.
+        positions: ``(n, 3)`` vertex positions, or a :class:`Mesh` (then no ``triangles``).
         triangles: ``(m, 3)`` vertex indices, counter-clockwise.
         pins: ``None`` (default) pins the two boundary vertices farthest apart at (0, 0) and
             (d, 0), d their 3D distance; or ``((v0, (u0, v0_)), (v1, (u1, v1_)))``.
@@ -509,7 +529,7 @@ def natural_conformal_map(
         InvalidArgument (bad pins), InvalidMesh, UnsupportedTopology, NumericalFailure,
         Cancelled, InternalError; or whatever ``progress`` raised.
     """
-    p, t = _mesh_arrays(positions, triangles)
+    p, t = _mesh_source(positions, triangles)
     options = L.UvfNaturalConformalOptions()
     L.library().uvf_natural_conformal_options_default(byref(options))
     if pins is not None:
@@ -518,7 +538,7 @@ def natural_conformal_map(
     options.progress = bridge.c_function
     uv = np.empty((len(p), 2), dtype=np.float64)
     lib = L.library()
-    bridge.run(lambda: lib.uvf_natural_conformal_map(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(uv)))
+    bridge.run(lambda: _on_mesh(lib, "natural_conformal_map", p, t, byref(options), _f64p(uv)))
     return uv
 
 
@@ -641,7 +661,7 @@ class NonlinearReport:
 
 def nonlinear_map(
     positions: ArrayLike,
-    triangles: ArrayLike,
+    triangles: Optional[ArrayLike] = None,
     method: Union[str, int] = "slim",
     *,
     iterations: Optional[int] = None,
@@ -664,7 +684,7 @@ def nonlinear_map(
     Returns:
         ``(uv, report)``: ``(n, 2)`` UVs and a :class:`NonlinearReport`.
     """
-    p, t = _mesh_arrays(positions, triangles)
+    p, t = _mesh_source(positions, triangles)
     options = L.UvfNonlinearOptions()
     L.library().uvf_nonlinear_options_default(byref(options))
     options.method = _code(method, _NONLINEAR, "method")
@@ -680,7 +700,7 @@ def nonlinear_map(
     uv = np.empty((len(p), 2), dtype=np.float64)
     report = L.UvfNonlinearReport()
     lib = L.library()
-    bridge.run(lambda: lib.uvf_nonlinear_map(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(uv), byref(report)))
+    bridge.run(lambda: _on_mesh(lib, "nonlinear_map", p, t, byref(options), _f64p(uv), byref(report)))
     return uv, _from_struct(NonlinearReport, report)
 
 
@@ -1301,7 +1321,7 @@ class AbfReport:
 
 def abf(
     positions: ArrayLike,
-    triangles: ArrayLike,
+    triangles: Optional[ArrayLike] = None,
     *,
     variant: str = "abf++",
     max_iterations: Optional[int] = None,
@@ -1326,7 +1346,7 @@ def abf(
     Returns:
         ``(uv, report)``: ``(n, 2)`` UVs and an :class:`AbfReport`.
     """
-    p, t = _mesh_arrays(positions, triangles)
+    p, t = _mesh_source(positions, triangles)
     options = L.UvfAbfOptions()
     L.library().uvf_abf_options_default(byref(options))
     options.variant = _code(variant, {"abf": L.UVF_ABF_VARIANT_ABF, "abf++": L.UVF_ABF_VARIANT_ABF_PLUS_PLUS}, "variant")
@@ -1352,7 +1372,7 @@ def abf(
     uv = np.empty((len(p), 2), dtype=np.float64)
     report = L.UvfAbfReport()
     lib = L.library()
-    bridge.run(lambda: lib.uvf_abf(_f64p(p), len(p), _u32p(t), len(t), byref(options), _f64p(uv), byref(report)))
+    bridge.run(lambda: _on_mesh(lib, "abf", p, t, byref(options), _f64p(uv), byref(report)))
     return uv, _from_struct(AbfReport, report)
 
 
@@ -1924,7 +1944,7 @@ class Unwrapped:
 
 def unwrap(
     positions: ArrayLike,
-    triangles: ArrayLike,
+    triangles: Optional[ArrayLike] = None,
     max_stretch: float = 1.5,
     margin: float = 0.005,
     method: str = "natural_conformal",
@@ -1946,7 +1966,7 @@ def unwrap(
         assert result.report.flipped == 0 and result.report.overlaps == 0
         corner_uv = result.corner_uv  # (m, 3, 2)
     """
-    p, t = _mesh_arrays(positions, triangles)
+    p, t = _mesh_source(positions, triangles)
     lib = L.library()
     options = L.UvfUnwrapOptions()
     lib.uvf_unwrap_options_default(byref(options))
@@ -1954,7 +1974,7 @@ def unwrap(
     bridge = _ProgressBridge(progress)
     options.progress = bridge.c_function
     handle = POINTER(L.UvfUnwrap)()
-    bridge.run(lambda: lib.uvf_unwrap(_f64p(p), len(p), _u32p(t), len(t), byref(options), byref(handle)))
+    bridge.run(lambda: _on_mesh(lib, "unwrap", p, t, byref(options), byref(handle)))
     try:
         report = L.UvfUnwrapReport()
         _check(lib.uvf_unwrap_report(handle, byref(report)))

@@ -947,21 +947,45 @@ PROTOTYPES = {
     "uvf_mesh_copy_triangles": (UvfStatus, [POINTER(UvfMesh), _u32p, c_size_t]),
     "uvf_mesh_copy_triangle_faces": (UvfStatus, [POINTER(UvfMesh), _u32p, c_size_t]),
     "uvf_mesh_face_corner_uv": (UvfStatus, [POINTER(UvfMesh), _f64p, c_size_t, _f64p, c_size_t]),
-    "uvf_mesh_fixed_boundary_map": (UvfStatus, [POINTER(UvfMesh), POINTER(UvfFixedBoundaryOptions), _f64p]),
-    "uvf_mesh_natural_conformal_map": (UvfStatus, [POINTER(UvfMesh), POINTER(UvfNaturalConformalOptions), _f64p]),
-    "uvf_mesh_abf": (UvfStatus, [POINTER(UvfMesh), POINTER(UvfAbfOptions), _f64p, POINTER(UvfAbfReport)]),
-    "uvf_mesh_nonlinear_map": (
-        UvfStatus,
-        [POINTER(UvfMesh), POINTER(UvfNonlinearOptions), _f64p, POINTER(UvfNonlinearReport)],
-    ),
-    "uvf_mesh_atlas": (UvfStatus, [POINTER(UvfMesh), POINTER(UvfAtlasOptions), POINTER(POINTER(UvfAtlas))]),
-    "uvf_mesh_unwrap": (UvfStatus, [POINTER(UvfMesh), POINTER(UvfUnwrapOptions), POINTER(POINTER(UvfUnwrap))]),
     "uvf_sphere_options_default": (None, [POINTER(UvfSphereOptions)]),
     "uvf_spherical_map": (
         UvfStatus,
         [_f64p, c_size_t, _u32p, c_size_t, POINTER(UvfSphereOptions), _f64p, POINTER(c_size_t)],
     ),
 }
+
+#: Every call on flat mesh arrays has a mesh-handle twin: ``uvf_mesh_<name>(mesh, <the rest>)``.
+_HANDLE_TWINS = (
+    "abf",
+    "atlas",
+    "boundary_editor_new",
+    "boundary_loops",
+    "boundary_optimized_map",
+    "circle_pattern_cone_map",
+    "circle_pattern_map",
+    "circle_pattern_polygon_curvature",
+    "constrained_fixed_boundary_map",
+    "constrained_natural_conformal_map",
+    "curvature",
+    "cut_to_disk",
+    "fixed_boundary_map",
+    "intrinsic_optimal_map",
+    "metrics",
+    "natural_conformal_map",
+    "nonlinear_map",
+    "pgp",
+    "pinned_natural_conformal_map",
+    "place_cones",
+    "quadcover",
+    "quadcover_quad_mesh",
+    "spectral_conformal_map",
+    "spherical_map",
+    "triangle_components",
+    "unwrap",
+)
+for _name in _HANDLE_TWINS:
+    _restype, _argtypes = PROTOTYPES["uvf_" + _name]
+    PROTOTYPES["uvf_mesh_" + _name] = (_restype, [POINTER(UvfMesh)] + list(_argtypes[4:]))
 
 # --- loading --------------------------------------------------------------------------------
 
