@@ -1,7 +1,9 @@
 // uvflat.hpp: header-only C++17 wrapper over the uvflat C API (include/uvflat.h).
 //
 // - Inputs: any contiguous range of doubles (3 per vertex) and uint32_t (3 per triangle),
-//   passed as pointer + count or as std::vector; outputs come back as std::vector.
+//   passed as std::vector or as `{pointer, count}` (`uvflat::Positions`, `uvflat::Triangles`:
+//   views, nothing is copied), or a `uvflat::Mesh` validated once (float or double positions
+//   at any stride, uint16/uint32 indices, polygons); outputs come back as std::vector.
 // - Failures throw uvflat::Error, which carries the UvfStatus and the library's message.
 // - Options are plain structs initialised from the library's defaults; progress callbacks are
 //   std::function<bool(double)> returning false to cancel (uvflat::Error with UVF_CANCELLED).
@@ -22,7 +24,8 @@
 // quad-dominant remesh `QuadMesh`, the `ChartLayout` and the per-chart `PgpCharts`);
 // QuadCover and its quad mesh; the chart `Atlas`; metrics, mesh info, boundary loops, triangle
 // components, the cut to a disk and the boundary editor (with its Green-function basis); the
-// version and ABI version — every function of the C API, which this header includes. Library
+// version and ABI version, the thread count, the layout check. The flat-array C functions are
+// all wrapped; of the `uvf_mesh_*` handle twins, those of the most used methods. Library
 // handles are owned by move-only classes whose destructor frees them; a moved-from object's
 // accessors throw uvflat::Error (UVF_INVALID_ARGUMENT).
 #ifndef UVFLAT_HPP
@@ -36,12 +39,38 @@
 #include <exception>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace uvflat {
+
+/// A read-only view of contiguous elements (std::span-style; C++17 has no std::span): made
+/// implicitly from a std::vector, or from a pointer and an element count, e.g.
+/// `uvflat::natural_conformal_map({positions, 3 * vertex_count}, {triangles, 3 * triangle_count})`.
+template <class T> class View {
+  public:
+    View() noexcept : data_(nullptr), size_(0) {}
+    View(const std::vector<T> &v) noexcept : data_(v.data()), size_(v.size()) {}
+    View(const T *data, std::size_t size) noexcept : data_(data), size_(size) {}
+    const T *data() const noexcept { return data_; }
+    std::size_t size() const noexcept { return size_; }
+    bool empty() const noexcept { return size_ == 0; }
+    const T &operator[](std::size_t k) const noexcept { return data_[k]; }
+    const T *begin() const noexcept { return data_; }
+    const T *end() const noexcept { return data_ + size_; }
+
+  private:
+    const T *data_;
+    std::size_t size_;
+};
+
+/// 3 doubles per vertex.
+using Positions = View<double>;
+/// 3 vertex indices per triangle.
+using Triangles = View<std::uint32_t>;
 
 /// A failed uvflat call: the status code and the library's message.
 class Error : public std::runtime_error {
@@ -110,7 +139,7 @@ std::vector<double> run_uv_method(Method method, COptions &o, const std::functio
     return uv;
 }
 
-inline std::size_t count_of(const std::vector<double> &flat, std::size_t per, const char *what) {
+inline std::size_t count_of(View<double> flat, std::size_t per, const char *what) {
     if (flat.size() % per != 0) {
         throw Error(UVF_INVALID_ARGUMENT, std::string(what) + " must hold " + std::to_string(per) +
                                               " values per element, but its size is " + std::to_string(flat.size()));
@@ -118,7 +147,7 @@ inline std::size_t count_of(const std::vector<double> &flat, std::size_t per, co
     return flat.size() / per;
 }
 
-inline std::size_t count_of(const std::vector<std::uint32_t> &flat, const char *what) {
+inline std::size_t count_of(View<std::uint32_t> flat, const char *what) {
     if (flat.size() % 3 != 0) {
         throw Error(UVF_INVALID_ARGUMENT,
                     std::string(what) + " must hold 3 indices per triangle, but its size is " + std::to_string(flat.size()));
@@ -173,7 +202,7 @@ void check_optional_size(const std::vector<T> &values, std::size_t count, std::s
 class Mesh {
   public:
     /// A triangle mesh from packed arrays (3 doubles per vertex, 3 indices per triangle).
-    Mesh(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles) {
+    Mesh(Positions positions, Triangles triangles) {
         UvfMeshDesc d;
         uvf_mesh_desc_default(&d);
         d.positions = positions.data();
@@ -305,7 +334,7 @@ template <class COptions> void set_pins(COptions &o, const std::vector<Pin> &pin
 /// uv_out, report_out)`; fills `*report` when it is not null.
 template <class COptions, class Report, class Method>
 std::vector<double> run_reported(Method method, COptions &o, const std::function<bool(double)> &callback,
-                                 const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+                                 Positions positions, Triangles triangles,
                                  Report *report) {
     Progress progress;
     progress.callback = &callback;
@@ -314,6 +343,20 @@ std::vector<double> run_reported(Method method, COptions &o, const std::function
     std::vector<double> uv(2 * nv);
     Report r = detail::sized<Report>();
     progress.finish(method(positions.data(), nv, triangles.data(), count_of(triangles, "triangles"), &o, uv.data(), &r));
+    if (report) *report = r;
+    return uv;
+}
+
+/// `run_reported` for a mesh-handle twin, `method(mesh, &options, uv_out, report_out)`.
+template <class COptions, class Report, class Method, class MeshT>
+std::vector<double> run_on_mesh(Method method, COptions &o, const std::function<bool(double)> &callback,
+                                const MeshT &mesh, Report *report) {
+    Progress progress;
+    progress.callback = &callback;
+    progress.install(o);
+    std::vector<double> uv(2 * mesh.vertex_count());
+    Report r = detail::sized<Report>();
+    progress.finish(method(mesh.get(), &o, uv.data(), &r));
     if (report) *report = r;
     return uv;
 }
@@ -328,14 +371,14 @@ inline UvfMeshInfo mesh_info(const double *positions, std::size_t vertex_count, 
     return info;
 }
 
-inline UvfMeshInfo mesh_info(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles) {
+inline UvfMeshInfo mesh_info(Positions positions, Triangles triangles) {
     return mesh_info(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
                      detail::count_of(triangles, "triangles"));
 }
 
 /// Ordered boundary loops (counter-clockwise).
-inline std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<double> &positions,
-                                                              const std::vector<std::uint32_t> &triangles) {
+inline std::vector<std::vector<std::uint32_t>> boundary_loops(Positions positions,
+                                                              Triangles triangles) {
     const std::size_t nv = detail::count_of(positions, 3, "positions"), nt = detail::count_of(triangles, "triangles");
     const UvfMeshInfo info = mesh_info(positions.data(), nv, triangles.data(), nt);
     std::vector<std::uint32_t> vertices(info.boundary_vertices), offsets(info.boundary_loops + 1);
@@ -349,8 +392,8 @@ inline std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<
 }
 
 /// Connected component (0-based) of every triangle: 1 entry per triangle.
-inline std::vector<std::uint32_t> triangle_components(const std::vector<double> &positions,
-                                                      const std::vector<std::uint32_t> &triangles) {
+inline std::vector<std::uint32_t> triangle_components(Positions positions,
+                                                      Triangles triangles) {
     const std::size_t nt = detail::count_of(triangles, "triangles");
     std::vector<std::uint32_t> component(nt);
     detail::check(uvf_triangle_components(positions.data(), detail::count_of(positions, 3, "positions"),
@@ -399,8 +442,8 @@ inline std::vector<double> fixed_boundary_map(const double *positions, std::size
                                  triangle_count);
 }
 
-inline std::vector<double> fixed_boundary_map(const std::vector<double> &positions,
-                                              const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> fixed_boundary_map(Positions positions,
+                                              Triangles triangles,
                                               const FixedBoundaryOptions &options = {}) {
     return fixed_boundary_map(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
                               detail::count_of(triangles, "triangles"), options);
@@ -417,8 +460,8 @@ inline std::vector<double> natural_conformal_map(const double *positions, std::s
                                  triangle_count);
 }
 
-inline std::vector<double> natural_conformal_map(const std::vector<double> &positions,
-                                                 const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> natural_conformal_map(Positions positions,
+                                                 Triangles triangles,
                                                  const NaturalConformalOptions &options = {}) {
     return natural_conformal_map(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
                                  detail::count_of(triangles, "triangles"), options);
@@ -457,7 +500,7 @@ namespace detail {
 /// Runs an intrinsic tool `method(positions, nv, triangles, nt, ..., &options, uv_out)` whose
 /// arguments after the mesh are bound by `call(options, uv_out)`.
 template <class Call>
-std::vector<double> run_tool(const std::vector<double> &positions, const std::function<bool(double)> &callback,
+std::vector<double> run_tool(Positions positions, const std::function<bool(double)> &callback,
                              Call call) {
     UvfIntrinsicToolOptions o;
     uvf_intrinsic_tool_options_default(&o);
@@ -473,8 +516,8 @@ std::vector<double> run_tool(const std::vector<double> &positions, const std::fu
 
 /// Fixed-boundary map with point constraints (Desbrun et al. 2002 §4.1, Lagrange
 /// multipliers): `fixed_boundary_map` with every constraint met exactly; 2 doubles per vertex.
-inline std::vector<double> constrained_fixed_boundary_map(const std::vector<double> &positions,
-                                                          const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> constrained_fixed_boundary_map(Positions positions,
+                                                          Triangles triangles,
                                                           const std::vector<PointConstraint> &constraints,
                                                           const FixedBoundaryOptions &options = {}) {
     UvfFixedBoundaryOptions o = detail::fixed_boundary_options(options);
@@ -491,8 +534,8 @@ inline std::vector<double> constrained_fixed_boundary_map(const std::vector<doub
 
 /// Natural conformal map with point constraints instead of two pins (Desbrun et al. 2002
 /// §4.1): at least 2 constraints, not all with the same target; 2 doubles per vertex.
-inline std::vector<double> constrained_natural_conformal_map(const std::vector<double> &positions,
-                                                             const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> constrained_natural_conformal_map(Positions positions,
+                                                             Triangles triangles,
                                                              const std::vector<PointConstraint> &constraints,
                                                              const std::function<bool(double)> &progress = {}) {
     return detail::run_tool(positions, progress, [&](const UvfIntrinsicToolOptions *o, double *uv) {
@@ -504,8 +547,8 @@ inline std::vector<double> constrained_natural_conformal_map(const std::vector<d
 }
 
 /// Natural conformal map with any number (≥ 2) of pinned vertices; 2 doubles per vertex.
-inline std::vector<double> pinned_natural_conformal_map(const std::vector<double> &positions,
-                                                        const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> pinned_natural_conformal_map(Positions positions,
+                                                        Triangles triangles,
                                                         const std::vector<Pin> &pins,
                                                         const std::function<bool(double)> &progress = {}) {
     std::vector<std::uint32_t> vertices;
@@ -557,8 +600,8 @@ inline UvfIntrinsicOptimalOptions intrinsic_optimal_options(const IntrinsicOptim
 /// Near-optimal intrinsic map (Desbrun et al. 2002 §5.1): λ·DCP + (1 − λ)·DAP with the λ
 /// minimizing the energy (never worse than pure DCP or DAP when they are in the range); 2
 /// doubles per vertex, λ and the energies in `*report` if given.
-inline std::vector<double> intrinsic_optimal_map(const std::vector<double> &positions,
-                                                 const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> intrinsic_optimal_map(Positions positions,
+                                                 Triangles triangles,
                                                  const IntrinsicOptimalOptions &options = {},
                                                  UvfIntrinsicOptimalReport *report = nullptr) {
     UvfIntrinsicOptimalOptions o = detail::intrinsic_optimal_options(options);
@@ -602,8 +645,8 @@ inline UvfBoundaryOptimizationOptions boundary_optimization_options(const Bounda
 /// Boundary-optimized intrinsic map (Desbrun et al. 2002 §5.2): the outer boundary moved to
 /// minimize the energy, never flipping a triangle; 2 doubles per vertex. The energies (start
 /// first, one per accepted iteration) go to `*history`, the figures to `*report`, if given.
-inline std::vector<double> boundary_optimized_map(const std::vector<double> &positions,
-                                                  const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> boundary_optimized_map(Positions positions,
+                                                  Triangles triangles,
                                                   const BoundaryOptimizationOptions &options = {},
                                                   UvfBoundaryOptimizationReport *report = nullptr,
                                                   std::vector<double> *history = nullptr) {
@@ -635,17 +678,41 @@ struct AbfOptions {
     AbfVariant variant = AbfVariant::abf_plus_plus;
     std::vector<Pin> pins; // empty or exactly two
     std::function<bool(double)> progress;
+    /// Unset: the library's defaults (`uvf_abf_options_default`).
+    std::optional<std::uint32_t> max_iterations;
+    std::optional<double> tolerance;
+    /// UVF_ABF_WEIGHTS_*.
+    std::optional<std::uint32_t> weights;
+    /// The weight of the angle barrier; 0 turns it off.
+    std::optional<double> barrier;
 };
 
 /// Angle Based Flattening (Sheffer & de Sturler 2001) or ABF++ (Sheffer et al. 2005), free
 /// boundary; returns 2 doubles per vertex, and the solver's figures in `*report` if given.
-inline std::vector<double> abf(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> abf(Positions positions, Triangles triangles,
                                const AbfOptions &options = {}, UvfAbfReport *report = nullptr) {
     UvfAbfOptions o;
     uvf_abf_options_default(&o);
     o.variant = static_cast<std::uint32_t>(options.variant);
     detail::set_pins(o, options.pins);
+    if (options.max_iterations) o.max_iterations = *options.max_iterations;
+    if (options.tolerance) o.tolerance = *options.tolerance;
+    if (options.weights) o.weights = *options.weights;
+    if (options.barrier) o.barrier = *options.barrier;
     return detail::run_reported(uvf_abf, o, options.progress, positions, triangles, report);
+}
+
+/// `abf` on a mesh handle.
+inline std::vector<double> abf(const Mesh &mesh, const AbfOptions &options = {}, UvfAbfReport *report = nullptr) {
+    UvfAbfOptions o;
+    uvf_abf_options_default(&o);
+    o.variant = static_cast<std::uint32_t>(options.variant);
+    detail::set_pins(o, options.pins);
+    if (options.max_iterations) o.max_iterations = *options.max_iterations;
+    if (options.tolerance) o.tolerance = *options.tolerance;
+    if (options.weights) o.weights = *options.weights;
+    if (options.barrier) o.barrier = *options.barrier;
+    return detail::run_on_mesh(uvf_mesh_abf, o, options.progress, mesh, report);
 }
 
 /// Distortion energy of `nonlinear_map` (UVF_NONLINEAR_*).
@@ -665,29 +732,67 @@ struct NonlinearOptions {
     /// Keep the whole map bijective (a scaffold keeps the free boundary apart).
     bool bijective = false;
     std::function<bool(double)> progress;
+    /// Unset: the library's defaults (`uvf_nonlinear_options_default`).
+    std::optional<double> tolerance;
+    /// SLIM's reweighting exponent θ.
+    std::optional<double> theta;
 };
 
 /// Free-boundary, flip-free map minimizing a non-linear distortion energy from the mean value
 /// map; returns 2 doubles per vertex.
-inline std::vector<double> nonlinear_map(const std::vector<double> &positions,
-                                         const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> nonlinear_map(Positions positions,
+                                         Triangles triangles,
                                          const NonlinearOptions &options = {}, UvfNonlinearReport *report = nullptr) {
     UvfNonlinearOptions o;
     uvf_nonlinear_options_default(&o);
     o.method = static_cast<std::uint32_t>(options.method);
     if (options.iterations != 0) o.iterations = options.iterations;
     o.bijective = options.bijective ? 1 : 0;
+    if (options.tolerance) o.tolerance = *options.tolerance;
+    if (options.theta) o.theta = *options.theta;
     return detail::run_reported(uvf_nonlinear_map, o, options.progress, positions, triangles, report);
 }
 
+/// `nonlinear_map` on a mesh handle.
+inline std::vector<double> nonlinear_map(const Mesh &mesh, const NonlinearOptions &options = {},
+                                         UvfNonlinearReport *report = nullptr) {
+    UvfNonlinearOptions o;
+    uvf_nonlinear_options_default(&o);
+    o.method = static_cast<std::uint32_t>(options.method);
+    if (options.iterations != 0) o.iterations = options.iterations;
+    o.bijective = options.bijective ? 1 : 0;
+    if (options.tolerance) o.tolerance = *options.tolerance;
+    if (options.theta) o.theta = *options.theta;
+    return detail::run_on_mesh(uvf_mesh_nonlinear_map, o, options.progress, mesh, report);
+}
+
 /// Spectral conformal map (Mullen et al. 2008): free boundary, no pins; 2 doubles per vertex.
-inline std::vector<double> spectral_conformal_map(const std::vector<double> &positions,
-                                                  const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> spectral_conformal_map(Positions positions,
+                                                  Triangles triangles,
                                                   const std::function<bool(double)> &progress = {},
                                                   UvfSpectralReport *report = nullptr) {
     UvfSpectralOptions o;
     uvf_spectral_options_default(&o);
     return detail::run_reported(uvf_spectral_conformal_map, o, progress, positions, triangles, report);
+}
+
+/// Options of `spectral_conformal_map`; unset fields keep the library's defaults.
+struct SpectralOptions {
+    std::optional<std::uint32_t> iterations;
+    std::optional<double> tolerance;
+    std::function<bool(double)> progress;
+};
+
+/// `spectral_conformal_map` with every option.
+inline std::vector<double> spectral_conformal_map(Positions positions,
+                                                  Triangles triangles,
+                                                  const SpectralOptions &options,
+                                                  UvfSpectralReport *report = nullptr) {
+    UvfSpectralOptions o;
+    uvf_spectral_options_default(&o);
+    if (options.iterations) o.iterations = *options.iterations;
+    if (options.tolerance) o.tolerance = *options.tolerance;
+    return detail::run_reported(uvf_spectral_conformal_map, o, options.progress, positions, triangles, report);
 }
 
 /// Options of the circle-pattern maps (Kharevych, Springborn & Schröder 2006).
@@ -700,6 +805,9 @@ struct CirclePatternOptions {
     std::vector<double> boundary_curvature;
     std::vector<Pin> pins; // empty or exactly two (not for cone maps)
     std::function<bool(double)> progress;
+    /// Unset: the library's defaults (`uvf_circle_pattern_options_default`).
+    std::optional<std::uint32_t> max_iterations;
+    std::optional<double> tolerance;
 };
 
 namespace detail {
@@ -709,6 +817,8 @@ inline UvfCirclePatternOptions circle_pattern_options(const CirclePatternOptions
     uvf_circle_pattern_options_default(&o);
     o.intrinsic_delaunay = options.intrinsic_delaunay ? 1 : 0;
     o.convex_boundary = options.convex_boundary ? 1 : 0;
+    if (options.max_iterations) o.max_iterations = *options.max_iterations;
+    if (options.tolerance) o.tolerance = *options.tolerance;
     if (!options.boundary_curvature.empty()) {
         if (options.boundary_curvature.size() != vertex_count) {
             throw Error(UVF_INVALID_ARGUMENT, "boundary_curvature must hold one value per vertex");
@@ -722,8 +832,8 @@ inline UvfCirclePatternOptions circle_pattern_options(const CirclePatternOptions
 } // namespace detail
 
 /// Conformal map of a disk (holes allowed) by circle patterns; 2 doubles per vertex.
-inline std::vector<double> circle_pattern_map(const std::vector<double> &positions,
-                                              const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> circle_pattern_map(Positions positions,
+                                              Triangles triangles,
                                               const CirclePatternOptions &options = {},
                                               UvfCirclePatternReport *report = nullptr) {
     UvfCirclePatternOptions o = detail::circle_pattern_options(options, detail::count_of(positions, 3, "positions"));
@@ -733,8 +843,8 @@ inline std::vector<double> circle_pattern_map(const std::vector<double> &positio
 /// Boundary curvature making the longest boundary loop a convex polygon with the given ≥ 3
 /// corner vertices (turning 2π / corners at each, straight between, NaN off the loop), for
 /// `CirclePatternOptions::boundary_curvature`: 1 double per vertex.
-inline std::vector<double> circle_pattern_polygon_curvature(const std::vector<double> &positions,
-                                                            const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> circle_pattern_polygon_curvature(Positions positions,
+                                                            Triangles triangles,
                                                             const std::vector<std::uint32_t> &corners) {
     const std::size_t nv = detail::count_of(positions, 3, "positions");
     std::vector<double> curvature(nv);
@@ -753,7 +863,7 @@ struct Cone {
 /// Cones placed greedily where the conformal flattening's log scale is largest (Ben-Chen et
 /// al. 2008), until it is at most `max_log_scale` or `max_cones` are placed; the largest log
 /// scale left goes to `*max_log_scale_out` if given.
-inline std::vector<Cone> place_cones(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+inline std::vector<Cone> place_cones(Positions positions, Triangles triangles,
                                      std::uint32_t max_cones = 64, double max_log_scale = 0.7,
                                      double *max_log_scale_out = nullptr) {
     UvfConePlacementOptions o;
@@ -774,10 +884,41 @@ inline std::vector<Cone> place_cones(const std::vector<double> &positions, const
     return cones;
 }
 
+/// Options of `place_cones`.
+struct ConePlacementOptions {
+    std::uint32_t max_cones = 64;
+    double max_log_scale = 0.7;
+    std::function<bool(double)> progress;
+};
+
+/// `place_cones` with a progress callback (returning false cancels: `uvflat::Error` with
+/// `UVF_CANCELLED`).
+inline std::vector<Cone> place_cones(Positions positions, Triangles triangles,
+                                     const ConePlacementOptions &options, double *max_log_scale_out = nullptr) {
+    UvfConePlacementOptions o;
+    uvf_cone_placement_options_default(&o);
+    o.max_cones = options.max_cones;
+    o.max_log_scale = options.max_log_scale;
+    detail::Progress progress;
+    progress.callback = &options.progress;
+    progress.install(o);
+    const std::size_t nv = detail::count_of(positions, 3, "positions");
+    std::vector<std::uint32_t> vertices(std::max<std::size_t>(std::min<std::size_t>(options.max_cones, nv), 1));
+    std::vector<double> curvatures(vertices.size());
+    std::size_t count = 0;
+    double largest = 0;
+    progress.finish(uvf_place_cones(positions.data(), nv, triangles.data(), detail::count_of(triangles, "triangles"),
+                                    &o, vertices.data(), curvatures.data(), &count, &largest));
+    if (max_log_scale_out) *max_log_scale_out = largest;
+    std::vector<Cone> cones(count);
+    for (std::size_t k = 0; k < count; ++k) cones[k] = Cone{vertices[k], curvatures[k]};
+    return cones;
+}
+
 /// Conformal map with cone singularities by circle patterns, on a mesh of any genus cut through
 /// the cones: 6 doubles per triangle (u, v of its three corners).
-inline std::vector<double> circle_pattern_cone_map(const std::vector<double> &positions,
-                                                   const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> circle_pattern_cone_map(Positions positions,
+                                                   Triangles triangles,
                                                    const std::vector<Cone> &cones,
                                                    const CirclePatternOptions &options = {},
                                                    UvfCirclePatternReport *report = nullptr) {
@@ -810,8 +951,8 @@ enum class SphereMethod : std::uint32_t {
 
 /// Spherical parameterization of a closed genus-0 mesh: 3 doubles per vertex on the unit sphere;
 /// the flipped spherical triangles go to `*flipped` if given (0 with `tutte_gnomonic`).
-inline std::vector<double> spherical_map(const std::vector<double> &positions,
-                                         const std::vector<std::uint32_t> &triangles,
+inline std::vector<double> spherical_map(Positions positions,
+                                         Triangles triangles,
                                          SphereMethod method = SphereMethod::tutte_gnomonic,
                                          std::size_t *flipped = nullptr) {
     UvfSphereOptions o;
@@ -822,6 +963,33 @@ inline std::vector<double> spherical_map(const std::vector<double> &positions,
     std::size_t count = 0;
     detail::check(uvf_spherical_map(positions.data(), nv, triangles.data(), detail::count_of(triangles, "triangles"),
                                     &o, sphere.data(), &count));
+    if (flipped) *flipped = count;
+    return sphere;
+}
+
+/// Options of `spherical_map`; unset `sweeps` keeps the library's default.
+struct SphereOptions {
+    SphereMethod method = SphereMethod::tutte_gnomonic;
+    std::optional<std::uint32_t> sweeps;
+    std::function<bool(double)> progress;
+};
+
+/// `spherical_map` with every option (returning false from `progress` cancels).
+inline std::vector<double> spherical_map(Positions positions,
+                                         Triangles triangles, const SphereOptions &options,
+                                         std::size_t *flipped = nullptr) {
+    UvfSphereOptions o;
+    uvf_sphere_options_default(&o);
+    o.method = static_cast<std::uint32_t>(options.method);
+    if (options.sweeps) o.sweeps = *options.sweeps;
+    detail::Progress progress;
+    progress.callback = &options.progress;
+    progress.install(o);
+    const std::size_t nv = detail::count_of(positions, 3, "positions");
+    std::vector<double> sphere(3 * nv);
+    std::size_t count = 0;
+    progress.finish(uvf_spherical_map(positions.data(), nv, triangles.data(), detail::count_of(triangles, "triangles"),
+                                      &o, sphere.data(), &count));
     if (flipped) *flipped = count;
     return sphere;
 }
@@ -861,7 +1029,7 @@ inline UvfCurvatureOptions curvature_options(const CurvatureOptions &options) {
 
 /// Principal curvatures by the normal-cycle tensor (Cohen-Steiner & Morvan 2003) averaged
 /// over a neighbourhood of each vertex (`uvf_curvature`).
-inline Curvatures curvature(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+inline Curvatures curvature(Positions positions, Triangles triangles,
                             const CurvatureOptions &options = {}) {
     const UvfCurvatureOptions o = detail::curvature_options(options);
     const std::size_t nv = detail::count_of(positions, 3, "positions");
@@ -1110,7 +1278,7 @@ struct SingularPoint {
 /// parameterization are made. Move-only owner of the `UvfPgp` handle, freed by the destructor.
 class Pgp {
   public:
-    Pgp(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+    Pgp(Positions positions, Triangles triangles,
         const PgpOptions &options = {})
         : vertex_count_(detail::count_of(positions, 3, "positions")) {
         UvfPgpOptions o = detail::pgp_options(options, vertex_count_);
@@ -1239,7 +1407,7 @@ inline UvfQuadCoverOptions quadcover_options(const QuadCoverOptions &options, st
 /// QuadCover (Kälberer, Nieser & Polthier 2007): a seamless global parameterization whose
 /// integer iso-lines close up over the surface (quarter turns and integer translations across
 /// every seam).
-inline QuadCoverMap quadcover(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+inline QuadCoverMap quadcover(Positions positions, Triangles triangles,
                               const QuadCoverOptions &options = {}) {
     const std::size_t nv = detail::count_of(positions, 3, "positions");
     const std::size_t nt = detail::count_of(triangles, "triangles");
@@ -1259,7 +1427,7 @@ inline QuadCoverMap quadcover(const std::vector<double> &positions, const std::v
 /// The integer grid lines of a QuadCover map (computed as `quadcover` does) as a quad-dominant
 /// mesh on the surface: the lines u, v ∈ ℤ / `density` (a whole number ≥ 1); the report goes
 /// to `*report` if given.
-inline QuadMesh quadcover_quad_mesh(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+inline QuadMesh quadcover_quad_mesh(Positions positions, Triangles triangles,
                                     double density = 1, const QuadCoverOptions &options = {},
                                     UvfQuadCoverReport *report = nullptr) {
     const std::size_t nt = detail::count_of(triangles, "triangles");
@@ -1327,7 +1495,7 @@ inline UvfAtlasOptions atlas_options(const AtlasOptions &options) {
 /// uv_triangles())` measures it.
 class Atlas {
   public:
-    Atlas(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+    Atlas(Positions positions, Triangles triangles,
           const AtlasOptions &options = {}) {
         UvfAtlasOptions o = detail::atlas_options(options);
         detail::Progress progress;
@@ -1335,6 +1503,14 @@ class Atlas {
         progress.install(o);
         progress.finish(uvf_atlas(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
                                   detail::count_of(triangles, "triangles"), &o, handle_.out()));
+    }
+    /// The atlas of a mesh handle.
+    explicit Atlas(const Mesh &mesh, const AtlasOptions &options = {}) {
+        UvfAtlasOptions o = detail::atlas_options(options);
+        detail::Progress progress;
+        progress.callback = &options.progress;
+        progress.install(o);
+        progress.finish(uvf_mesh_atlas(mesh.get(), &o, handle_.out()));
     }
 
     /// Sizes, utilization and stretch.
@@ -1396,7 +1572,7 @@ struct UnwrapOptions {
 /// Move-only owner of the `UvfUnwrap` handle, freed by the destructor.
 class Unwrap {
   public:
-    Unwrap(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+    Unwrap(Positions positions, Triangles triangles,
            const UnwrapOptions &options = {}) {
         UvfUnwrapOptions o = c_options(options);
         detail::Progress progress;
@@ -1419,6 +1595,14 @@ class Unwrap {
         UvfUnwrapReport r = detail::sized<UvfUnwrapReport>();
         detail::check(uvf_unwrap_report(handle_.get(), &r));
         return r;
+    }
+    /// UV of every corner: 6 doubles per input triangle.
+    std::vector<double> corner_uv() const {
+        UvfAtlasInfo i = detail::sized<UvfAtlasInfo>();
+        detail::check(uvf_atlas_info(layout(), &i));
+        std::vector<double> out(6 * i.triangle_count);
+        detail::check(uvf_atlas_copy_corner_uv(layout(), out.data(), out.size()));
+        return out;
     }
     /// UV of every UV vertex (2 doubles each, in [0, 1]).
     std::vector<double> uv() const {
@@ -1475,7 +1659,7 @@ class Unwrap {
 };
 
 /// Distortion of per-vertex UVs (2 doubles per vertex).
-inline UvfMetrics metrics(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+inline UvfMetrics metrics(Positions positions, Triangles triangles,
                           const std::vector<double> &uv) {
     UvfMetrics m = detail::sized<UvfMetrics>();
     detail::check(uvf_metrics(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
@@ -1485,7 +1669,7 @@ inline UvfMetrics metrics(const std::vector<double> &positions, const std::vecto
 }
 
 /// Distortion of per-corner UVs: `uv_triangles` holds 3 indices into `uv` per triangle.
-inline UvfMetrics metrics(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+inline UvfMetrics metrics(Positions positions, Triangles triangles,
                           const std::vector<double> &uv, const std::vector<std::uint32_t> &uv_triangles) {
     if (uv_triangles.size() != triangles.size()) {
         throw Error(UVF_INVALID_ARGUMENT, "uv_triangles must have as many entries as triangles");
@@ -1497,16 +1681,46 @@ inline UvfMetrics metrics(const std::vector<double> &positions, const std::vecto
     return m;
 }
 
+/// Distortion of per-vertex UVs on a mesh handle (its triangulation).
+inline UvfMetrics metrics(const Mesh &mesh, const std::vector<double> &uv) {
+    UvfMetrics m = detail::sized<UvfMetrics>();
+    detail::check(uvf_mesh_metrics(mesh.get(), uv.data(), detail::count_of(uv, 2, "uv"), nullptr, &m));
+    return m;
+}
+
+/// The exact layout check (`uvf_check_layout`): flipped triangles, crossing or touching UV
+/// boundary edges, islands of per-corner UVs (`uv_triangles`: 3 indices into `uv` per triangle).
+inline UvfLayoutCheck check_layout(const std::vector<double> &uv, const std::vector<std::uint32_t> &uv_triangles) {
+    UvfLayoutCheck c = detail::sized<UvfLayoutCheck>();
+    detail::check(uvf_check_layout(uv.data(), detail::count_of(uv, 2, "uv"), uv_triangles.data(),
+                                   detail::count_of(uv_triangles, "uv_triangles"), &c));
+    return c;
+}
+
 /// A mesh cut into a topological disk (`uvf_cut_to_disk`: tree-cotree cut graph); owns the
 /// library's handle (move-only, freed by the destructor). Any disk method runs on
 /// `positions()` / `triangles()`; `original_vertices()` maps the cut mesh back.
 class Cut {
   public:
-    Cut(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+    Cut(Positions positions, Triangles triangles,
         std::uint32_t cost = UVF_CUT_COST_CURVATURE) {
         UvfCutOptions options;
         uvf_cut_options_default(&options);
         options.cost = cost;
+        detail::check(uvf_cut_to_disk(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
+                                      detail::count_of(triangles, "triangles"), &options, &handle_));
+    }
+    /// A cut along the cheapest edges by the caller's costs (`UVF_CUT_COST_GIVEN`): 3 doubles
+    /// per triangle, the cost of the edge from corner k to corner k + 1 at `3t + k`.
+    Cut(Positions positions, Triangles triangles,
+        const std::vector<double> &edge_cost) {
+        if (edge_cost.size() != triangles.size()) {
+            throw Error(UVF_INVALID_ARGUMENT, "edge_cost must hold 3 values per triangle");
+        }
+        UvfCutOptions options;
+        uvf_cut_options_default(&options);
+        options.cost = UVF_CUT_COST_GIVEN;
+        options.edge_cost = edge_cost.data();
         detail::check(uvf_cut_to_disk(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
                                       detail::count_of(triangles, "triangles"), &options, &handle_));
     }
@@ -1559,7 +1773,7 @@ class Cut {
 /// The optional progress callback follows (and can cancel) the factorization.
 class BoundaryEditor {
   public:
-    BoundaryEditor(const std::vector<double> &positions, const std::vector<std::uint32_t> &triangles,
+    BoundaryEditor(Positions positions, Triangles triangles,
                    double lambda = 1.0, double mu = 0.0, const std::function<bool(double)> &callback = {})
         : vertex_count_(detail::count_of(positions, 3, "positions")) {
         UvfIntrinsicToolOptions o;

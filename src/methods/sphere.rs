@@ -118,7 +118,7 @@ pub fn spherical_map(mesh: &TriMesh, options: &SphereOptions) -> Result<SphereMa
 }
 
 /// [`spherical_map`] reporting progress (which can cancel): through the circle-pattern map's
-/// stages, at the start and the end for the other methods.
+/// stages, after every relaxation sweep, at the start and the end of the stereographic map.
 pub fn spherical_map_with_progress(
     mesh: &TriMesh,
     options: &SphereOptions,
@@ -127,9 +127,9 @@ pub fn spherical_map_with_progress(
     require_sphere(mesh)?;
     progress.report(0.0)?;
     let mut positions = match options.method {
-        SphereMethod::GaussSeidel => gauss_seidel(mesh, options.sweeps),
+        SphereMethod::GaussSeidel => gauss_seidel(mesh, options.sweeps, progress)?,
         SphereMethod::Stereographic => stereographic(mesh)?,
-        SphereMethod::TutteGnomonic => tutte_gnomonic(mesh, options.sweeps)?,
+        SphereMethod::TutteGnomonic => tutte_gnomonic(mesh, options.sweeps, progress)?,
         SphereMethod::CirclePatterns => {
             let options = crate::methods::circle_patterns::CirclePatternOptions::default();
             circle_pattern_sphere_map(mesh, &options, progress)?.0
@@ -229,12 +229,13 @@ fn unreferenced_to_nan(mesh: &TriMesh, points: &mut [[f64; 3]]) {
 }
 
 /// Projected Gauss–Seidel barycentric iteration with re-centring.
-fn gauss_seidel(mesh: &TriMesh, sweeps: usize) -> Vec<[f64; 3]> {
+fn gauss_seidel(mesh: &TriMesh, sweeps: usize, progress: &mut Progress) -> Result<Vec<[f64; 3]>> {
     let c = centroid(mesh, mesh.points());
     let mut x: Vec<[f64; 3]> =
         mesh.points().iter().map(|p| normalize([p[0] - c[0], p[1] - c[1], p[2] - c[2]])).collect();
     let (start, list) = neighbours(mesh);
-    for _ in 0..sweeps {
+    for sweep in 0..sweeps {
+        progress.report(sweep as f64 / sweeps as f64)?;
         for v in 0..mesh.vertex_count() {
             let row = &list[start[v]..start[v + 1]];
             if row.is_empty() {
@@ -256,7 +257,7 @@ fn gauss_seidel(mesh: &TriMesh, sweeps: usize) -> Vec<[f64; 3]> {
         }
     }
     unreferenced_to_nan(mesh, &mut x);
-    x
+    Ok(x)
 }
 
 /// The mesh without the triangles listed in `removed` (same vertex numbering).
@@ -328,7 +329,7 @@ fn stereographic(mesh: &TriMesh) -> Result<Vec<[f64; 3]>> {
 }
 
 /// Tutte embedding of the mesh minus a vertex star, gnomonic lift, pole, guarded relaxation.
-fn tutte_gnomonic(mesh: &TriMesh, sweeps: usize) -> Result<Vec<[f64; 3]>> {
+fn tutte_gnomonic(mesh: &TriMesh, sweeps: usize, progress: &mut Progress) -> Result<Vec<[f64; 3]>> {
     let s = highest_degree_vertex(mesh);
     let disk = without_triangles(mesh, |t| mesh.triangles()[t].contains(&s))?;
     let lp = disk.boundary_loops()[0].clone();
@@ -355,7 +356,7 @@ fn tutte_gnomonic(mesh: &TriMesh, sweeps: usize) -> Result<Vec<[f64; 3]>> {
             *p = [0.0, 0.0, 1.0];
         }
     }
-    guarded_relaxation(mesh, &mut x, sweeps);
+    guarded_relaxation(mesh, &mut x, sweeps, progress)?;
     unreferenced_to_nan(mesh, &mut x);
     Ok(x)
 }
@@ -376,7 +377,7 @@ fn well_oriented(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> bool {
 
 /// Gauss–Seidel sweeps moving each vertex towards the projected barycentre of its neighbours,
 /// keeping a move only when every triangle around the vertex stays positively oriented.
-fn guarded_relaxation(mesh: &TriMesh, x: &mut [[f64; 3]], sweeps: usize) {
+fn guarded_relaxation(mesh: &TriMesh, x: &mut [[f64; 3]], sweeps: usize, progress: &mut Progress) -> Result<()> {
     let (start, list) = neighbours(mesh);
     // Triangles around each vertex (as the two other corners in counter-clockwise order).
     let n = mesh.vertex_count();
@@ -401,7 +402,8 @@ fn guarded_relaxation(mesh: &TriMesh, x: &mut [[f64; 3]], sweeps: usize) {
     let all_positive = |x: &[[f64; 3]], v: usize, p: [f64; 3]| {
         fan[fan_start[v]..fan_start[v + 1]].iter().all(|&[a, b]| well_oriented(p, x[a as usize], x[b as usize]))
     };
-    for _ in 0..sweeps {
+    for sweep in 0..sweeps {
+        progress.report(sweep as f64 / sweeps as f64)?;
         for v in 0..n {
             let row = &list[start[v]..start[v + 1]];
             if row.is_empty() || mesh.connectivity().vertex_halfedge[v] == NONE {
@@ -436,6 +438,7 @@ fn guarded_relaxation(mesh: &TriMesh, x: &mut [[f64; 3]], sweeps: usize) {
             }
         }
     }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -474,6 +477,23 @@ mod tests {
         let positions: Vec<f64> = p.iter().flat_map(|q| [axes[0] * q[0], axes[1] * q[1], axes[2] * q[2]]).collect();
         let tris: Vec<u32> = t.iter().flatten().copied().collect();
         TriMesh::new(&positions, &tris).expect("ellipsoid")
+    }
+
+    #[test]
+    fn the_relaxation_sweeps_report_progress_and_stop_when_asked() {
+        let mesh = ellipsoid(2, [3.0, 1.0, 0.5]);
+        for method in [SphereMethod::GaussSeidel, SphereMethod::TutteGnomonic] {
+            let mut calls = 0;
+            let mut stop_at_third = |_: f64| {
+                calls += 1;
+                calls < 3
+            };
+            // Sweeps enough for hours; the callback stops it at its third call.
+            let options = SphereOptions { method, sweeps: usize::MAX };
+            let result = spherical_map_with_progress(&mesh, &options, &mut Progress::new(&mut stop_at_third));
+            assert!(matches!(result, Err(crate::error::Error::Cancelled)), "{method:?}");
+            assert_eq!(calls, 3, "{method:?}");
+        }
     }
 
     #[test]

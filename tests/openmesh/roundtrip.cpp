@@ -89,6 +89,14 @@ void check_method(const std::string &name, const Mesh &mesh, const Arrays &a, co
 /// the mean value map of it flips nothing.
 void check_cut(const std::string &name, const Arrays &a) {
     try {
+        std::vector<double> lengths(a.triangles.size());
+        for (std::size_t k = 0; k < lengths.size(); ++k) {
+            const std::uint32_t u = a.triangles[k], w = a.triangles[k % 3 == 2 ? k - 2 : k + 1];
+            lengths[k] = std::hypot(a.positions[3 * u] - a.positions[3 * w], a.positions[3 * u + 1] - a.positions[3 * w + 1],
+                                    a.positions[3 * u + 2] - a.positions[3 * w + 2]);
+        }
+        const uvflat::Cut given(a.positions, a.triangles, lengths); // the caller's edge costs
+        if (given.triangles().size() != a.triangles.size()) fail(name, "the cut by given costs changed the triangles");
         uvflat::Cut cut(a.positions, a.triangles);
         uvflat::Cut moved = std::move(cut);
         const std::vector<std::uint32_t> tris = moved.triangles(), original = moved.original_vertices();
@@ -201,6 +209,16 @@ void check_sphere(const std::string &name, const Arrays &a, const UvfMeshInfo &i
         const std::vector<double> circles =
             uvflat::spherical_map(a.positions, a.triangles, uvflat::SphereMethod::circle_patterns, &conformal_flipped);
         if (flipped != 0) fail(name, "the Tutte-gnomonic sphere map flipped");
+        uvflat::SphereOptions gauss_seidel;
+        gauss_seidel.method = uvflat::SphereMethod::gauss_seidel;
+        gauss_seidel.sweeps = 1000000;
+        gauss_seidel.progress = [](double) { return false; };
+        try {
+            uvflat::spherical_map(a.positions, a.triangles, gauss_seidel);
+            fail(name, "a sphere map whose progress callback says stop was not cancelled");
+        } catch (const uvflat::Error &e) {
+            if (e.status() != UVF_CANCELLED) fail(name, "cancelling the sphere map gave the wrong status");
+        }
         auto angle_error = [&](const std::vector<double> &x) {
             double total = 0;
             std::size_t count = 0;

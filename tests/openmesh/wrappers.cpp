@@ -464,6 +464,43 @@ void check_mesh_handle(const Arrays &a) {
     desc.face_count = a.triangles.size() / 3;
     const uvflat::Mesh float_mesh(desc);
     expect(float_mesh.info().triangles == a.triangles.size() / 3, "a float mesh has the triangles");
+    // Views: the same call on raw pointers and counts.
+    expect(uvflat::natural_conformal_map({a.positions.data(), a.positions.size()},
+                                         {a.triangles.data(), a.triangles.size()}) ==
+               uvflat::natural_conformal_map(a.positions, a.triangles),
+           "pointer + count views give the vector call's result");
+    UvfAbfReport flat_report{}, handle_report{};
+    uvflat::AbfOptions abf_options;
+    abf_options.max_iterations = 3;
+    abf_options.tolerance = 1e-30;
+    expect(uvflat::abf(mesh, abf_options, &handle_report) == uvflat::abf(a.positions, a.triangles, abf_options, &flat_report),
+           "ABF++: handle = flat");
+    expect(flat_report.iterations == 3 && flat_report.converged == 0, "ABF++ max_iterations and tolerance are passed");
+    uvflat::NonlinearOptions slim;
+    slim.iterations = 5;
+    slim.theta = 4.0;
+    expect(uvflat::nonlinear_map(mesh, slim) == uvflat::nonlinear_map(a.positions, a.triangles, slim), "SLIM: handle = flat");
+    const std::vector<double> uv = uvflat::natural_conformal_map(mesh);
+    expect(uvflat::metrics(mesh, uv).stretch_l2 == uvflat::metrics(a.positions, a.triangles, uv).stretch_l2,
+           "metrics: handle = flat");
+    const uvflat::Atlas atlas(mesh);
+    expect(atlas.info().chart_count >= 1, "atlas of the handle");
+    const std::vector<double> corner_uv = unwrap.corner_uv(), unwrap_uv = unwrap.uv();
+    const std::vector<std::uint32_t> unwrap_triangles = unwrap.uv_triangles();
+    bool corners_agree = corner_uv.size() == 2 * unwrap_triangles.size();
+    for (std::size_t k = 0; corners_agree && k < unwrap_triangles.size(); ++k) {
+        corners_agree = corner_uv[2 * k] == unwrap_uv[2 * unwrap_triangles[k]] &&
+                        corner_uv[2 * k + 1] == unwrap_uv[2 * unwrap_triangles[k] + 1];
+    }
+    expect(corners_agree, "the unwrap's corner UVs are its UVs at its corners");
+    const UvfLayoutCheck layout = uvflat::check_layout(unwrap_uv, unwrap_triangles);
+    expect(layout.flipped == 0 && layout.overlaps == 0 && layout.islands == unwrap.report().islands,
+           "the exact check of the unwrap's layout");
+    uvflat::SpectralOptions spectral;
+    spectral.iterations = 1;
+    UvfSpectralReport spectral_report{};
+    uvflat::spectral_conformal_map(a.positions, a.triangles, spectral, &spectral_report);
+    expect(spectral_report.iterations == 1, "spectral iterations are passed");
     expect_error(UVF_INVALID_ARGUMENT, "a description without arrays", [] {
         UvfMeshDesc empty;
         uvf_mesh_desc_default(&empty);
