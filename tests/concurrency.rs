@@ -1,5 +1,6 @@
 //! Every entry point is reentrant: 8 threads calling the C ABI at once on different meshes get
-//! bit-for-bit the results of single-threaded calls, and each thread sees its own error message.
+//! bit-for-bit the results of single-threaded calls, each thread sees its own error message, and
+//! 8 threads sharing one mesh handle get the flat calls' results.
 
 #[path = "common/meshes.rs"]
 mod meshes;
@@ -106,4 +107,62 @@ fn error_messages_are_per_thread() {
             });
         }
     });
+}
+
+/// A raw handle pointer that threads may share: the handle is immutable (docs/c-api.md).
+#[derive(Clone, Copy)]
+struct Shared(*const uvflat::capi::mesh_handle::UvfMesh);
+// SAFETY: `UvfMesh` is never mutated after `uvf_mesh_new`; the test frees it after every thread.
+unsafe impl Send for Shared {}
+unsafe impl Sync for Shared {}
+
+#[test]
+fn eight_threads_share_one_mesh_handle_and_get_the_flat_calls_results() {
+    use uvflat::capi::mesh_handle::{uvf_mesh_desc_default, uvf_mesh_free, uvf_mesh_new, UvfMesh, UvfMeshDesc};
+    use uvflat::capi::methods::{uvf_mesh_fixed_boundary_map, uvf_mesh_natural_conformal_map};
+    let (positions, triangles) = load("disk_mushroom");
+    let nv = positions.len() / 3;
+    // run_all: the conformal UVs, 4 metrics, the mean-value UVs.
+    let all = run_all(&positions, &triangles);
+    let expected: Vec<u64> = all[..2 * nv].iter().chain(&all[2 * nv + 4..]).copied().collect();
+    let mut desc = UvfMeshDesc { struct_size: 0, ..Default::default() };
+    let mut mesh: *mut UvfMesh = std::ptr::null_mut();
+    // SAFETY: the description points at live arrays of the stated sizes.
+    unsafe {
+        uvf_mesh_desc_default(&mut desc);
+        desc.positions = positions.as_ptr().cast();
+        desc.vertex_count = nv;
+        desc.indices = triangles.as_ptr().cast();
+        desc.face_count = triangles.len() / 3;
+        assert_eq!(uvf_mesh_new(&desc, &mut mesh), UvfStatus::UVF_OK);
+    }
+    let shared = Shared(mesh);
+    let results: Vec<Vec<u64>> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..8)
+            .map(|_| {
+                scope.spawn(move || {
+                    let handle = shared;
+                    let (mut conformal, mut fixed) = (vec![0.0; 2 * nv], vec![0.0; 2 * nv]);
+                    // SAFETY: a live handle; the outputs hold 2 nv doubles.
+                    unsafe {
+                        assert_eq!(
+                            uvf_mesh_natural_conformal_map(handle.0, std::ptr::null(), conformal.as_mut_ptr()),
+                            UvfStatus::UVF_OK
+                        );
+                        assert_eq!(
+                            uvf_mesh_fixed_boundary_map(handle.0, std::ptr::null(), fixed.as_mut_ptr()),
+                            UvfStatus::UVF_OK
+                        );
+                    }
+                    conformal.iter().chain(&fixed).map(|x| x.to_bits()).collect()
+                })
+            })
+            .collect();
+        workers.into_iter().map(|w| w.join().expect("worker")).collect()
+    });
+    // SAFETY: every thread has finished with the handle.
+    unsafe { uvf_mesh_free(mesh) };
+    for bits in results {
+        assert_eq!(bits, expected, "a thread on the shared handle got other UVs than the flat calls");
+    }
 }

@@ -795,6 +795,16 @@ inline std::vector<double> spectral_conformal_map(Positions positions,
     return detail::run_reported(uvf_spectral_conformal_map, o, options.progress, positions, triangles, report);
 }
 
+/// `spectral_conformal_map` on a mesh handle.
+inline std::vector<double> spectral_conformal_map(const Mesh &mesh, const SpectralOptions &options = {},
+                                                  UvfSpectralReport *report = nullptr) {
+    UvfSpectralOptions o;
+    uvf_spectral_options_default(&o);
+    if (options.iterations) o.iterations = *options.iterations;
+    if (options.tolerance) o.tolerance = *options.tolerance;
+    return detail::run_on_mesh(uvf_mesh_spectral_conformal_map, o, options.progress, mesh, report);
+}
+
 /// Options of the circle-pattern maps (Kharevych, Springborn & Schröder 2006).
 struct CirclePatternOptions {
     /// Flip to the intrinsic Delaunay triangulation first (the paper's method).
@@ -838,6 +848,13 @@ inline std::vector<double> circle_pattern_map(Positions positions,
                                               UvfCirclePatternReport *report = nullptr) {
     UvfCirclePatternOptions o = detail::circle_pattern_options(options, detail::count_of(positions, 3, "positions"));
     return detail::run_reported(uvf_circle_pattern_map, o, options.progress, positions, triangles, report);
+}
+
+/// `circle_pattern_map` on a mesh handle.
+inline std::vector<double> circle_pattern_map(const Mesh &mesh, const CirclePatternOptions &options = {},
+                                              UvfCirclePatternReport *report = nullptr) {
+    UvfCirclePatternOptions o = detail::circle_pattern_options(options, mesh.vertex_count());
+    return detail::run_on_mesh(uvf_mesh_circle_pattern_map, o, options.progress, mesh, report);
 }
 
 /// Boundary curvature making the longest boundary loop a convex polygon with the given ≥ 3
@@ -990,6 +1007,23 @@ inline std::vector<double> spherical_map(Positions positions,
     std::size_t count = 0;
     progress.finish(uvf_spherical_map(positions.data(), nv, triangles.data(), detail::count_of(triangles, "triangles"),
                                       &o, sphere.data(), &count));
+    if (flipped) *flipped = count;
+    return sphere;
+}
+
+/// `spherical_map` on a mesh handle.
+inline std::vector<double> spherical_map(const Mesh &mesh, const SphereOptions &options = {},
+                                         std::size_t *flipped = nullptr) {
+    UvfSphereOptions o;
+    uvf_sphere_options_default(&o);
+    o.method = static_cast<std::uint32_t>(options.method);
+    if (options.sweeps) o.sweeps = *options.sweeps;
+    detail::Progress progress;
+    progress.callback = &options.progress;
+    progress.install(o);
+    std::vector<double> sphere(3 * mesh.vertex_count());
+    std::size_t count = 0;
+    progress.finish(uvf_mesh_spherical_map(mesh.get(), &o, sphere.data(), &count));
     if (flipped) *flipped = count;
     return sphere;
 }
@@ -1709,6 +1743,13 @@ class Cut {
         options.cost = cost;
         detail::check(uvf_cut_to_disk(positions.data(), detail::count_of(positions, 3, "positions"), triangles.data(),
                                       detail::count_of(triangles, "triangles"), &options, &handle_));
+    }
+    /// The cut of a mesh handle.
+    explicit Cut(const Mesh &mesh, std::uint32_t cost = UVF_CUT_COST_CURVATURE) {
+        UvfCutOptions options;
+        uvf_cut_options_default(&options);
+        options.cost = cost;
+        detail::check(uvf_mesh_cut_to_disk(mesh.get(), &options, &handle_));
     }
     /// A cut along the cheapest edges by the caller's costs (`UVF_CUT_COST_GIVEN`): 3 doubles
     /// per triangle, the cost of the edge from corner k to corner k + 1 at `3t + k`.

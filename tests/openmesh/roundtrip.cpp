@@ -96,6 +96,8 @@ void check_cut(const std::string &name, const Arrays &a) {
                                     a.positions[3 * u + 2] - a.positions[3 * w + 2]);
         }
         const uvflat::Cut given(a.positions, a.triangles, lengths); // the caller's edge costs
+        const uvflat::Cut of_handle(uvflat::Mesh(a.positions, a.triangles));
+        if (of_handle.triangles() != uvflat::Cut(a.positions, a.triangles).triangles()) fail(name, "Cut of a handle differs");
         if (given.triangles().size() != a.triangles.size()) fail(name, "the cut by given costs changed the triangles");
         uvflat::Cut cut(a.positions, a.triangles);
         uvflat::Cut moved = std::move(cut);
@@ -209,6 +211,7 @@ void check_sphere(const std::string &name, const Arrays &a, const UvfMeshInfo &i
         const std::vector<double> circles =
             uvflat::spherical_map(a.positions, a.triangles, uvflat::SphereMethod::circle_patterns, &conformal_flipped);
         if (flipped != 0) fail(name, "the Tutte-gnomonic sphere map flipped");
+        if (uvflat::spherical_map(uvflat::Mesh(a.positions, a.triangles)) != tutte) fail(name, "sphere map of a handle differs");
         uvflat::SphereOptions gauss_seidel;
         gauss_seidel.method = uvflat::SphereMethod::gauss_seidel;
         gauss_seidel.sweeps = 1000000;

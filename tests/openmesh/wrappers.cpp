@@ -496,6 +496,10 @@ void check_mesh_handle(const Arrays &a) {
     const UvfLayoutCheck layout = uvflat::check_layout(unwrap_uv, unwrap_triangles);
     expect(layout.flipped == 0 && layout.overlaps == 0 && layout.islands == unwrap.report().islands,
            "the exact check of the unwrap's layout");
+    expect(uvflat::spectral_conformal_map(mesh) == uvflat::spectral_conformal_map(a.positions, a.triangles),
+           "spectral: handle = flat");
+    expect(uvflat::circle_pattern_map(mesh) == uvflat::circle_pattern_map(a.positions, a.triangles),
+           "circle patterns: handle = flat");
     uvflat::SpectralOptions spectral;
     spectral.iterations = 1;
     UvfSpectralReport spectral_report{};
