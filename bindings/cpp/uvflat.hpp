@@ -687,31 +687,34 @@ struct AbfOptions {
     std::optional<double> barrier;
 };
 
-/// Angle Based Flattening (Sheffer & de Sturler 2001) or ABF++ (Sheffer et al. 2005), free
-/// boundary; returns 2 doubles per vertex, and the solver's figures in `*report` if given.
-inline std::vector<double> abf(Positions positions, Triangles triangles,
-                               const AbfOptions &options = {}, UvfAbfReport *report = nullptr) {
+namespace detail {
+
+/// The C options of `abf` (no progress callback installed).
+inline UvfAbfOptions abf_options(const AbfOptions &options) {
     UvfAbfOptions o;
     uvf_abf_options_default(&o);
     o.variant = static_cast<std::uint32_t>(options.variant);
-    detail::set_pins(o, options.pins);
+    set_pins(o, options.pins);
     if (options.max_iterations) o.max_iterations = *options.max_iterations;
     if (options.tolerance) o.tolerance = *options.tolerance;
     if (options.weights) o.weights = *options.weights;
     if (options.barrier) o.barrier = *options.barrier;
+    return o;
+}
+
+} // namespace detail
+
+/// Angle Based Flattening (Sheffer & de Sturler 2001) or ABF++ (Sheffer et al. 2005), free
+/// boundary; returns 2 doubles per vertex, and the solver's figures in `*report` if given.
+inline std::vector<double> abf(Positions positions, Triangles triangles,
+                               const AbfOptions &options = {}, UvfAbfReport *report = nullptr) {
+    UvfAbfOptions o = detail::abf_options(options);
     return detail::run_reported(uvf_abf, o, options.progress, positions, triangles, report);
 }
 
 /// `abf` on a mesh handle.
 inline std::vector<double> abf(const Mesh &mesh, const AbfOptions &options = {}, UvfAbfReport *report = nullptr) {
-    UvfAbfOptions o;
-    uvf_abf_options_default(&o);
-    o.variant = static_cast<std::uint32_t>(options.variant);
-    detail::set_pins(o, options.pins);
-    if (options.max_iterations) o.max_iterations = *options.max_iterations;
-    if (options.tolerance) o.tolerance = *options.tolerance;
-    if (options.weights) o.weights = *options.weights;
-    if (options.barrier) o.barrier = *options.barrier;
+    UvfAbfOptions o = detail::abf_options(options);
     return detail::run_on_mesh(uvf_mesh_abf, o, options.progress, mesh, report);
 }
 
@@ -738,11 +741,10 @@ struct NonlinearOptions {
     std::optional<double> theta;
 };
 
-/// Free-boundary, flip-free map minimizing a non-linear distortion energy from the mean value
-/// map; returns 2 doubles per vertex.
-inline std::vector<double> nonlinear_map(Positions positions,
-                                         Triangles triangles,
-                                         const NonlinearOptions &options = {}, UvfNonlinearReport *report = nullptr) {
+namespace detail {
+
+/// The C options of `nonlinear_map` (no progress callback installed).
+inline UvfNonlinearOptions nonlinear_options(const NonlinearOptions &options) {
     UvfNonlinearOptions o;
     uvf_nonlinear_options_default(&o);
     o.method = static_cast<std::uint32_t>(options.method);
@@ -750,19 +752,24 @@ inline std::vector<double> nonlinear_map(Positions positions,
     o.bijective = options.bijective ? 1 : 0;
     if (options.tolerance) o.tolerance = *options.tolerance;
     if (options.theta) o.theta = *options.theta;
+    return o;
+}
+
+} // namespace detail
+
+/// Free-boundary, flip-free map minimizing a non-linear distortion energy from the mean value
+/// map; returns 2 doubles per vertex.
+inline std::vector<double> nonlinear_map(Positions positions,
+                                         Triangles triangles,
+                                         const NonlinearOptions &options = {}, UvfNonlinearReport *report = nullptr) {
+    UvfNonlinearOptions o = detail::nonlinear_options(options);
     return detail::run_reported(uvf_nonlinear_map, o, options.progress, positions, triangles, report);
 }
 
 /// `nonlinear_map` on a mesh handle.
 inline std::vector<double> nonlinear_map(const Mesh &mesh, const NonlinearOptions &options = {},
                                          UvfNonlinearReport *report = nullptr) {
-    UvfNonlinearOptions o;
-    uvf_nonlinear_options_default(&o);
-    o.method = static_cast<std::uint32_t>(options.method);
-    if (options.iterations != 0) o.iterations = options.iterations;
-    o.bijective = options.bijective ? 1 : 0;
-    if (options.tolerance) o.tolerance = *options.tolerance;
-    if (options.theta) o.theta = *options.theta;
+    UvfNonlinearOptions o = detail::nonlinear_options(options);
     return detail::run_on_mesh(uvf_mesh_nonlinear_map, o, options.progress, mesh, report);
 }
 
@@ -783,25 +790,32 @@ struct SpectralOptions {
     std::function<bool(double)> progress;
 };
 
+namespace detail {
+
+/// The C options of `spectral_conformal_map` (no progress callback installed).
+inline UvfSpectralOptions spectral_options(const SpectralOptions &options) {
+    UvfSpectralOptions o;
+    uvf_spectral_options_default(&o);
+    if (options.iterations) o.iterations = *options.iterations;
+    if (options.tolerance) o.tolerance = *options.tolerance;
+    return o;
+}
+
+} // namespace detail
+
 /// `spectral_conformal_map` with every option.
 inline std::vector<double> spectral_conformal_map(Positions positions,
                                                   Triangles triangles,
                                                   const SpectralOptions &options,
                                                   UvfSpectralReport *report = nullptr) {
-    UvfSpectralOptions o;
-    uvf_spectral_options_default(&o);
-    if (options.iterations) o.iterations = *options.iterations;
-    if (options.tolerance) o.tolerance = *options.tolerance;
+    UvfSpectralOptions o = detail::spectral_options(options);
     return detail::run_reported(uvf_spectral_conformal_map, o, options.progress, positions, triangles, report);
 }
 
 /// `spectral_conformal_map` on a mesh handle.
 inline std::vector<double> spectral_conformal_map(const Mesh &mesh, const SpectralOptions &options = {},
                                                   UvfSpectralReport *report = nullptr) {
-    UvfSpectralOptions o;
-    uvf_spectral_options_default(&o);
-    if (options.iterations) o.iterations = *options.iterations;
-    if (options.tolerance) o.tolerance = *options.tolerance;
+    UvfSpectralOptions o = detail::spectral_options(options);
     return detail::run_on_mesh(uvf_mesh_spectral_conformal_map, o, options.progress, mesh, report);
 }
 
@@ -991,14 +1005,24 @@ struct SphereOptions {
     std::function<bool(double)> progress;
 };
 
-/// `spherical_map` with every option (returning false from `progress` cancels).
-inline std::vector<double> spherical_map(Positions positions,
-                                         Triangles triangles, const SphereOptions &options,
-                                         std::size_t *flipped = nullptr) {
+namespace detail {
+
+/// The C options of `spherical_map` (no progress callback installed).
+inline UvfSphereOptions sphere_options(const SphereOptions &options) {
     UvfSphereOptions o;
     uvf_sphere_options_default(&o);
     o.method = static_cast<std::uint32_t>(options.method);
     if (options.sweeps) o.sweeps = *options.sweeps;
+    return o;
+}
+
+} // namespace detail
+
+/// `spherical_map` with every option (returning false from `progress` cancels).
+inline std::vector<double> spherical_map(Positions positions,
+                                         Triangles triangles, const SphereOptions &options,
+                                         std::size_t *flipped = nullptr) {
+    UvfSphereOptions o = detail::sphere_options(options);
     detail::Progress progress;
     progress.callback = &options.progress;
     progress.install(o);
@@ -1014,10 +1038,7 @@ inline std::vector<double> spherical_map(Positions positions,
 /// `spherical_map` on a mesh handle.
 inline std::vector<double> spherical_map(const Mesh &mesh, const SphereOptions &options = {},
                                          std::size_t *flipped = nullptr) {
-    UvfSphereOptions o;
-    uvf_sphere_options_default(&o);
-    o.method = static_cast<std::uint32_t>(options.method);
-    if (options.sweeps) o.sweeps = *options.sweeps;
+    UvfSphereOptions o = detail::sphere_options(options);
     detail::Progress progress;
     progress.callback = &options.progress;
     progress.install(o);
