@@ -230,7 +230,8 @@ pub(crate) unsafe fn handle<'a>(mesh: *const UvfMesh) -> Result<&'a UvfMesh> {
 /// # Safety
 /// The description's arrays must hold what it says.
 unsafe fn build(d: &UvfMeshDesc) -> Result<UvfMesh> {
-    let points = unsafe { read_positions(d) }?;
+    let flat = unsafe { read_positions(d) }?;
+    let vertex_count = flat.len() / 3;
     let sizes: Vec<u32> = if d.face_sizes.is_null() {
         vec![3; d.face_count]
     } else {
@@ -252,14 +253,15 @@ unsafe fn build(d: &UvfMeshDesc) -> Result<UvfMesh> {
             });
         }
         let corners = &indices[start..start + n];
-        if let Some(&v) = corners.iter().find(|&&v| v as usize >= points.len()) {
-            let problem = format!("it uses vertex {v} but the mesh has {} vertices", points.len());
+        if let Some(&v) = corners.iter().find(|&&v| v as usize >= vertex_count) {
+            let problem = format!("it uses vertex {v} but the mesh has {vertex_count} vertices");
             return Err(Error::InvalidFace { face, problem: Box::new(Error::InvalidArgument(problem)) });
         }
         let order = if n == 3 {
             vec![[0, 1, 2]]
         } else {
-            let ring: Vec<[f64; 3]> = corners.iter().map(|&v| points[v as usize]).collect();
+            let ring: Vec<[f64; 3]> =
+                corners.iter().map(|&v| std::array::from_fn(|k| flat[3 * v as usize + k])).collect();
             polygon::triangulate(&ring)
         };
         for tri in order {
@@ -269,7 +271,6 @@ unsafe fn build(d: &UvfMeshDesc) -> Result<UvfMesh> {
         }
         start += n;
     }
-    let flat: Vec<f64> = points.iter().flatten().copied().collect();
     let polygons = !d.face_sizes.is_null();
     let mesh = TriMesh::new(&flat, &triangles).map_err(|e| in_face_terms(e, polygons, &triangle_face))?;
     Ok(UvfMesh { mesh, triangle_face, triangle_corner, corner_count })
@@ -293,11 +294,11 @@ fn in_face_terms(error: Error, polygons: bool, triangle_face: &[u32]) -> Error {
     }
 }
 
-/// The description's vertex positions as points.
+/// The description's vertex positions, 3 doubles per vertex.
 ///
 /// # Safety
 /// `d.positions` must hold `vertex_count` vertices at `position_stride`.
-unsafe fn read_positions(d: &UvfMeshDesc) -> Result<Vec<[f64; 3]>> {
+unsafe fn read_positions(d: &UvfMeshDesc) -> Result<Vec<f64>> {
     let scalar = match d.position_type {
         UVF_SCALAR_DOUBLE => 8,
         UVF_SCALAR_FLOAT => 4,
@@ -308,17 +309,18 @@ unsafe fn read_positions(d: &UvfMeshDesc) -> Result<Vec<[f64; 3]>> {
         return Err(Error::InvalidArgument(format!("positions is NULL but vertex_count is {}", d.vertex_count)));
     }
     let base = d.positions as *const u8;
-    Ok((0..d.vertex_count)
-        .map(|v| {
+    let count = checked_count(d.vertex_count, 3, "vertex")?;
+    Ok((0..count)
+        .map(|i| {
             // SAFETY: the caller promises vertex_count vertices at this stride; unaligned reads.
-            std::array::from_fn(|k| unsafe {
-                let at = base.add(v * stride + k * scalar);
+            unsafe {
+                let at = base.add((i / 3) * stride + (i % 3) * scalar);
                 if scalar == 8 {
                     (at as *const f64).read_unaligned()
                 } else {
                     f64::from((at as *const f32).read_unaligned())
                 }
-            })
+            }
         })
         .collect())
 }
