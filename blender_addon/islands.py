@@ -226,7 +226,7 @@ def cut_open(island: Island, cut_triangles: np.ndarray, cut_positions: np.ndarra
     )
 
 
-#: The library's degeneracy threshold (``DEGENERATE_RELATIVE_AREA`` in ``src/mesh/validate.rs``):
+#: The library's degeneracy threshold (``DEGENERATE_RELATIVE_AREA`` in ``crates/uvflat-core/src/mesh/validate.rs``):
 #: a triangle whose area divided by its longest edge squared is at most this is rejected.
 DEGENERATE_RELATIVE_AREA = 1e-12
 

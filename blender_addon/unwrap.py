@@ -57,7 +57,7 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 from . import islands as isl
 from ._binding import binding
 
-#: Element references in the library's messages (``src/mesh`` errors): an edge as a vertex
+#: Element references in the library's messages (``crates/uvflat-core/src/mesh`` errors): an edge as a vertex
 #: pair, a list or a pair of triangles, one triangle, one vertex.
 _ELEMENT = re.compile(
     r"\bedge \((?P<edge>\d+, \d+)\)|\btriangles \[(?P<list>[\d, ]+)\]|\btriangles (?P<pair>\d+ and \d+)"

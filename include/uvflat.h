@@ -2834,6 +2834,15 @@ enum UvfStatus uvf_mesh_triangle_components(const struct UvfMesh *mesh,
                                             uint32_t *component_out);
 
 /**
+ * Counts and topology of a mesh handle, as `uvf_mesh_info` gives them for flat arrays
+ * (`triangles` counts the triangles after triangulation). `info_out->struct_size` must be set.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; `info_out` writable.
+ */
+enum UvfStatus uvf_mesh_handle_info(const struct UvfMesh *mesh, struct UvfMeshInfo *info_out);
+
+/**
  * Fills `desc` with the defaults (packed `double` positions, packed `uint32_t` triangles, no
  * arrays yet) and sets its `struct_size`.
  *
@@ -2861,15 +2870,6 @@ enum UvfStatus uvf_mesh_new(const struct UvfMeshDesc *desc, struct UvfMesh **mes
  * `mesh` must come from `uvf_mesh_new` and not have been freed.
  */
 void uvf_mesh_free(struct UvfMesh *mesh);
-
-/**
- * Counts and topology of a mesh handle, as `uvf_mesh_info` gives them for flat arrays
- * (`triangles` counts the triangles after triangulation). `info_out->struct_size` must be set.
- *
- * # Safety
- * `mesh` must be a live handle or NULL; `info_out` writable.
- */
-enum UvfStatus uvf_mesh_handle_info(const struct UvfMesh *mesh, struct UvfMeshInfo *info_out);
 
 /**
  * Copies the triangles of the handle (3 vertex indices each, `info.triangles` of them) into

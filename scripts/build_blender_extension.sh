@@ -21,7 +21,7 @@ else
     profile=${UVFLAT_CARGO_PROFILE:-release}
     profile_dir=$profile
     [ "$profile" = dev ] && profile_dir=debug
-    cargo build --profile "$profile" --locked --lib
+    cargo build --profile "$profile" --locked -p uvflat-capi
     library="$target/$profile_dir/libuvflat.so"
 fi
 [ -f "$library" ] || { echo "error: $library was not built" >&2; exit 1; }

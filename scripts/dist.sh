@@ -26,7 +26,7 @@ work="$target/dist"
 rm -rf "$work"
 mkdir -p "$work"
 
-cargo build --release --locked --lib --bin uvflat
+cargo build --release --locked -p uvflat-capi -p uvflat-cli
 release="$target/release"
 
 # --- C/C++ SDK ------------------------------------------------------------------------------

@@ -58,8 +58,8 @@ if [ -z "$lib_dir" ]; then
     lib_dir=target/release
     built="$lib_dir/libuvflat.so"
     if [ ! -f "$built" ] || [ ! -f "$lib_dir/libuvflat.a" ] || [ ! -f "$lib_dir/uvflat" ] \
-        || [ -n "$(find src build.rs Cargo.toml Cargo.lock -newer "$built" -print -quit)" ]; then
-        cargo build --release --locked --lib --bin uvflat
+        || [ -n "$(find crates Cargo.toml Cargo.lock -name target -prune -o -newer "$built" -print -quit)" ]; then
+        cargo build --release --locked -p uvflat-capi -p uvflat-cli
     else
         echo "using the up-to-date build in $lib_dir"
     fi

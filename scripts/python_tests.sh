@@ -50,7 +50,7 @@ fi
 profile=${UVFLAT_CARGO_PROFILE:-release}
 profile_dir=$profile
 [ "$profile" = dev ] && profile_dir=debug
-cargo build --profile "$profile" --locked
+cargo build --profile "$profile" --locked -p uvflat-capi -p uvflat-cli
 export UVFLAT_LIBRARY="$PWD/$target/$profile_dir/libuvflat.so"
 [[ "$target" = /* ]] && UVFLAT_LIBRARY="$target/$profile_dir/libuvflat.so"
 export UVFLAT_CLI="${UVFLAT_LIBRARY%/*}/uvflat"

@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 
 cli=${UVFLAT:-target/release/uvflat}
 if [ -z "${UVFLAT:-}" ]; then
-    cargo build --release --quiet --bin uvflat
+    cargo build --release --quiet -p uvflat-cli
 fi
 if [ "$#" -gt 0 ]; then
     meshes=("$@")

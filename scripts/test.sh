@@ -27,7 +27,7 @@ fi
 export UVFLAT_CARGO_PROFILE=${UVFLAT_CARGO_PROFILE:-ci}
 
 # The artifacts users install (scripts/dist.sh: C SDK, wheel, Blender extension, from the release
-# profile), which tests/install.rs and tests/python/test_dist.py install and use.
+# profile), which crates/uvflat-capi/tests/it/install.rs and tests/python/test_dist.py install and use.
 export UVFLAT_DIST=${UVFLAT_DIST:-$PWD/dist}
 scripts/dist.sh
 
