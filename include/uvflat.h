@@ -72,76 +72,6 @@
 #define UVF_ATLAS_CHART_STRETCH 3
 
 /**
- * Default edge cost: length divided by `1 + 3·θ/π` (θ the dihedral angle).
- */
-#define UVF_CUT_COST_CURVATURE 0
-
-/**
- * Plain edge length.
- */
-#define UVF_CUT_COST_LENGTH 1
-
-/**
- * Caller-given cost per half-edge in `edge_cost`.
- */
-#define UVF_CUT_COST_GIVEN 2
-
-/**
- * Tutte embedding of the mesh minus one vertex star, gnomonic lift, flip-guarded relaxation:
- * never flips (the default).
- */
-#define UVF_SPHERE_TUTTE_GNOMONIC 0
-
-/**
- * Projected Gauss–Seidel barycentric iteration (course notes §6.1; no guarantee).
- */
-#define UVF_SPHERE_GAUSS_SEIDEL 1
-
-/**
- * Haker et al. 2000: harmonic map of the mesh minus one triangle + inverse stereographic
- * projection (no guarantee).
- */
-#define UVF_SPHERE_STEREOGRAPHIC 2
-
-/**
- * Kharevych, Springborn & Schröder 2006: the planar circle pattern of the mesh minus one vertex
- * star (its link on a convex polygon whose corners are the removed spokes' intersection
- * angles), balanced so the vertex areas' centroid is the sphere's centre, inverse
- * stereographic projection: conformal (no guarantee against flips; they are counted).
- */
-#define UVF_SPHERE_CIRCLE_PATTERNS 3
-
-/**
- * Edge-length distortion `Σ_edges (|u_i − u_j|² / |x_i − x_j|² − 1)²` (Desbrun et al. 2002 §5.1).
- */
-#define UVF_ENERGY_EDGE_LENGTH 0
-
-/**
- * Area distortion `Σ_faces ((A^uv / A^3D)² − 1)²` (Desbrun et al. 2002 §5.1, as printed).
- */
-#define UVF_ENERGY_AREA 1
-
-/**
- * `UvfMeshDesc.position_type`: 64-bit `double` coordinates.
- */
-#define UVF_SCALAR_DOUBLE 0
-
-/**
- * `UvfMeshDesc.position_type`: 32-bit `float` coordinates.
- */
-#define UVF_SCALAR_FLOAT 1
-
-/**
- * `UvfMeshDesc.index_type`: `uint32_t` vertex indices.
- */
-#define UVF_INDEX_UINT32 0
-
-/**
- * `UvfMeshDesc.index_type`: `uint16_t` vertex indices.
- */
-#define UVF_INDEX_UINT16 1
-
-/**
  * Tutte's uniform weights.
  */
 #define UVF_WEIGHTS_UNIFORM 0
@@ -202,6 +132,51 @@
 #define UVF_DISTRIBUTION_CENTRIPETAL 2
 
 /**
+ * Default edge cost: length divided by `1 + 3·θ/π` (θ the dihedral angle).
+ */
+#define UVF_CUT_COST_CURVATURE 0
+
+/**
+ * Plain edge length.
+ */
+#define UVF_CUT_COST_LENGTH 1
+
+/**
+ * Caller-given cost per half-edge in `edge_cost`.
+ */
+#define UVF_CUT_COST_GIVEN 2
+
+/**
+ * `UvfMeshDesc.position_type`: 64-bit `double` coordinates.
+ */
+#define UVF_SCALAR_DOUBLE 0
+
+/**
+ * `UvfMeshDesc.position_type`: 32-bit `float` coordinates.
+ */
+#define UVF_SCALAR_FLOAT 1
+
+/**
+ * `UvfMeshDesc.index_type`: `uint32_t` vertex indices.
+ */
+#define UVF_INDEX_UINT32 0
+
+/**
+ * `UvfMeshDesc.index_type`: `uint16_t` vertex indices.
+ */
+#define UVF_INDEX_UINT16 1
+
+/**
+ * Edge-length distortion `Σ_edges (|u_i − u_j|² / |x_i − x_j|² − 1)²` (Desbrun et al. 2002 §5.1).
+ */
+#define UVF_ENERGY_EDGE_LENGTH 0
+
+/**
+ * Area distortion `Σ_faces ((A^uv / A^3D)² − 1)²` (Desbrun et al. 2002 §5.1, as printed).
+ */
+#define UVF_ENERGY_AREA 1
+
+/**
  * Symmetric Dirichlet energy minimized by SLIM (Rabinovich et al. 2017).
  */
 #define UVF_NONLINEAR_SLIM 0
@@ -230,6 +205,32 @@
  * Degener et al. 2003 θ-energy (angle × area^θ).
  */
 #define UVF_NONLINEAR_DEGENER 5
+
+/**
+ * Chart kind: a chart without singularity, its triangles' (θ, φ) assembled (§3.4).
+ */
+#define UVF_PGP_CHART_ASSEMBLED 0
+
+/**
+ * Chart kind: four corners, equal opposite sides, re-parameterized by mean-value coordinates.
+ */
+#define UVF_PGP_CHART_MEAN_VALUE 1
+
+/**
+ * Chart kind: one of the quads an N-sided chart was split into, mean-value re-parameterized.
+ */
+#define UVF_PGP_CHART_SPLIT_QUAD 2
+
+/**
+ * Chart kind: part of a chart that is not a disk with three or more corners, flattened by the
+ * atlas segmentation (no quad structure, not continuous with its neighbours, not folded).
+ */
+#define UVF_PGP_CHART_ATLAS 3
+
+/**
+ * Chart kind: per-triangle (θ, φ) kept (the atlas failed on it).
+ */
+#define UVF_PGP_CHART_UNRESOLVED 4
 
 /**
  * Curvature neighbourhood: the triangles around the vertices at most `rings − 1` edges away.
@@ -262,30 +263,29 @@
 #define UVF_SMOOTH_HALF_PI 4
 
 /**
- * Chart kind: a chart without singularity, its triangles' (θ, φ) assembled (§3.4).
+ * Tutte embedding of the mesh minus one vertex star, gnomonic lift, flip-guarded relaxation:
+ * never flips (the default).
  */
-#define UVF_PGP_CHART_ASSEMBLED 0
+#define UVF_SPHERE_TUTTE_GNOMONIC 0
 
 /**
- * Chart kind: four corners, equal opposite sides, re-parameterized by mean-value coordinates.
+ * Projected Gauss–Seidel barycentric iteration (course notes §6.1; no guarantee).
  */
-#define UVF_PGP_CHART_MEAN_VALUE 1
+#define UVF_SPHERE_GAUSS_SEIDEL 1
 
 /**
- * Chart kind: one of the quads an N-sided chart was split into, mean-value re-parameterized.
+ * Haker et al. 2000: harmonic map of the mesh minus one triangle + inverse stereographic
+ * projection (no guarantee).
  */
-#define UVF_PGP_CHART_SPLIT_QUAD 2
+#define UVF_SPHERE_STEREOGRAPHIC 2
 
 /**
- * Chart kind: part of a chart that is not a disk with three or more corners, flattened by the
- * atlas segmentation (no quad structure, not continuous with its neighbours, not folded).
+ * Kharevych, Springborn & Schröder 2006: the planar circle pattern of the mesh minus one vertex
+ * star (its link on a convex polygon whose corners are the removed spokes' intersection
+ * angles), balanced so the vertex areas' centroid is the sphere's centre, inverse
+ * stereographic projection: conformal (no guarantee against flips; they are counted).
  */
-#define UVF_PGP_CHART_ATLAS 3
-
-/**
- * Chart kind: per-triangle (θ, φ) kept (the atlas failed on it).
- */
-#define UVF_PGP_CHART_UNRESOLVED 4
+#define UVF_SPHERE_CIRCLE_PATTERNS 3
 
 /**
  * Status codes of the C ABI. `Ok` is 0; every failure class has its own code.
@@ -562,6 +562,179 @@ typedef struct UvfAtlasInfo {
 } UvfAtlasInfo;
 
 /**
+ * Options of `uvf_fixed_boundary_map`. Initialise with `uvf_fixed_boundary_options_default`.
+ */
+typedef struct UvfFixedBoundaryOptions {
+  /**
+   * `sizeof(UvfFixedBoundaryOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * One of `UVF_WEIGHTS_*` (default mean value).
+   */
+  uint32_t weights;
+  /**
+   * One of `UVF_BOUNDARY_*` (default circle).
+   */
+  uint32_t boundary;
+  /**
+   * One of `UVF_DISTRIBUTION_*` (default chord length).
+   */
+  uint32_t distribution;
+  /**
+   * λ for `UVF_WEIGHTS_INTRINSIC` (default 1).
+   */
+  double lambda;
+  /**
+   * μ for `UVF_WEIGHTS_INTRINSIC` (default 0).
+   */
+  double mu;
+  /**
+   * Number of entries in `given_vertices` (and pairs in `given_uv`) for `UVF_BOUNDARY_GIVEN`.
+   */
+  size_t given_count;
+  /**
+   * Boundary vertices whose UV is given; must cover whole boundary loops.
+   */
+  const uint32_t *given_vertices;
+  /**
+   * 2 doubles per given vertex.
+   */
+  const double *given_uv;
+  /**
+   * Optional progress callback (may be NULL).
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfFixedBoundaryOptions;
+
+/**
+ * Options of the constrained natural conformal maps and of the boundary editor. Initialise
+ * with `uvf_intrinsic_tool_options_default`.
+ */
+typedef struct UvfIntrinsicToolOptions {
+  /**
+   * `sizeof(UvfIntrinsicToolOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * Optional progress callback (may be NULL).
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfIntrinsicToolOptions;
+
+/**
+ * Options of `uvf_boundary_optimized_map`. Initialise with
+ * `uvf_boundary_optimization_options_default`.
+ */
+typedef struct UvfBoundaryOptimizationOptions {
+  /**
+   * `sizeof(UvfBoundaryOptimizationOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * `UVF_ENERGY_EDGE_LENGTH` (default) or `UVF_ENERGY_AREA`.
+   */
+  uint32_t energy;
+  /**
+   * Iteration limit (default 100).
+   */
+  uint32_t iterations;
+  /**
+   * λ of the intrinsic map λ·DCP + μ·DAP (default 1).
+   */
+  double lambda;
+  /**
+   * μ of the intrinsic map (default 0).
+   */
+  double mu;
+  /**
+   * Stop when an iteration lowers the energy by less than `tolerance × energy` (default
+   * 1e-6; ≥ 0).
+   */
+  double tolerance;
+  /**
+   * Starting boundary: one of `UVF_BOUNDARY_*` (default circle, scaled to the surface
+   * area); given positions must cover exactly the outer (longest) loop.
+   */
+  uint32_t boundary;
+  /**
+   * One of `UVF_DISTRIBUTION_*` (default chord length).
+   */
+  uint32_t distribution;
+  /**
+   * Number of entries of `given_vertices` for `UVF_BOUNDARY_GIVEN`.
+   */
+  size_t given_count;
+  /**
+   * Outer-loop vertices whose starting UV is given.
+   */
+  const uint32_t *given_vertices;
+  /**
+   * 2 doubles per given vertex.
+   */
+  const double *given_uv;
+  /**
+   * Optional progress callback (may be NULL), called once before each iteration; returning
+   * non-zero cancels before that iteration.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfBoundaryOptimizationOptions;
+
+/**
+ * What `uvf_boundary_optimized_map` reports.
+ */
+typedef struct UvfBoundaryOptimizationReport {
+  /**
+   * `sizeof(UvfBoundaryOptimizationReport)`, set by the caller before the call; the library writes only the fields
+   * that fit in that many bytes (see Versioning at the top of the header).
+   */
+  size_t struct_size;
+  /**
+   * Accepted iterations.
+   */
+  uint32_t iterations;
+  /**
+   * 1 when the tolerance was met or no step could lower the energy; 0 when the iteration
+   * limit stopped the descent.
+   */
+  uint32_t converged;
+  /**
+   * Entries of the energy history (iterations + 1: the start, then each iteration), also
+   * when `history_capacity` was smaller.
+   */
+  size_t history_length;
+  /**
+   * Energy of the starting map.
+   */
+  double initial_energy;
+  /**
+   * Energy of the returned map (never above `initial_energy`).
+   */
+  double final_energy;
+  /**
+   * Factor applied to the circle or square start (1 for given positions).
+   */
+  double boundary_scale;
+  /**
+   * Triangles flipped or degenerate in the starting map; no iteration changes any
+   * triangle's orientation, so the result has the same ones (0 for a flip-free start).
+   */
+  size_t flipped;
+} UvfBoundaryOptimizationReport;
+
+/**
  * Options of `uvf_circle_pattern_map`. Initialise with `uvf_circle_pattern_options_default`.
  */
 typedef struct UvfCirclePatternOptions {
@@ -672,6 +845,84 @@ typedef struct UvfCirclePatternReport {
 } UvfCirclePatternReport;
 
 /**
+ * Options of `uvf_place_cones`. Initialise with `uvf_cone_placement_options_default`.
+ */
+typedef struct UvfConePlacementOptions {
+  /**
+   * `sizeof(UvfConePlacementOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * Most cones placed (default 64); the output arrays must hold this many, or
+   * `vertex_count` if that is fewer (a vertex is a cone at most once).
+   */
+  uint32_t max_cones;
+  /**
+   * Stop once the conformal flattening's log scale |u| is at most this everywhere (default
+   * 0.7, about a factor of 2 in length; ≥ 0).
+   */
+  double max_log_scale;
+  /**
+   * Optional progress callback (may be NULL), called after each cone.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfConePlacementOptions;
+
+/**
+ * Options of `uvf_natural_conformal_map`. Initialise with
+ * `uvf_natural_conformal_options_default`.
+ */
+typedef struct UvfNaturalConformalOptions {
+  /**
+   * `sizeof(UvfNaturalConformalOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * 0: pin the two boundary vertices farthest apart (default); 2: use `pin_vertices`.
+   */
+  uint32_t pin_count;
+  /**
+   * The two pinned vertices when `pin_count` is 2.
+   */
+  uint32_t pin_vertices[2];
+  /**
+   * Their UVs: u0, v0, u1, v1.
+   */
+  double pin_uv[4];
+  /**
+   * Optional progress callback (may be NULL).
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfNaturalConformalOptions;
+
+/**
+ * A point of the surface (triangle index and barycentric coordinates with respect to its
+ * three corners, normalized by their sum) and the UV it must map to.
+ */
+typedef struct UvfPointConstraint {
+  /**
+   * Triangle index (< triangle_count).
+   */
+  uint32_t triangle;
+  /**
+   * Barycentric coordinates of the point (must not sum to zero).
+   */
+  double barycentric[3];
+  /**
+   * Target UV.
+   */
+  double uv[2];
+} UvfPointConstraint;
+
+/**
  * Options of `uvf_cut_to_disk`. Initialise with `uvf_cut_options_default`.
  */
 typedef struct UvfCutOptions {
@@ -722,392 +973,6 @@ typedef struct UvfCutInfo {
    */
   double total_edge_length;
 } UvfCutInfo;
-
-/**
- * Options of `uvf_spherical_map`. Initialise with `uvf_sphere_options_default`.
- */
-typedef struct UvfSphereOptions {
-  /**
-   * `sizeof(UvfSphereOptions)`, set by the default initialiser.
-   */
-  size_t struct_size;
-  /**
-   * One of `UVF_SPHERE_*` (default `UVF_SPHERE_TUTTE_GNOMONIC`).
-   */
-  uint32_t method;
-  /**
-   * Relaxation sweeps (default 100); ignored by the stereographic and circle-pattern methods.
-   */
-  uint32_t sweeps;
-  /**
-   * Optional progress callback (may be NULL); a non-zero return cancels (`UVF_CANCELLED`).
-   */
-  UvfProgressFn progress;
-  /**
-   * Passed to `progress` unchanged.
-   */
-  void *progress_user;
-} UvfSphereOptions;
-
-/**
- * Options of `uvf_place_cones`. Initialise with `uvf_cone_placement_options_default`.
- */
-typedef struct UvfConePlacementOptions {
-  /**
-   * `sizeof(UvfConePlacementOptions)`, set by the default initialiser.
-   */
-  size_t struct_size;
-  /**
-   * Most cones placed (default 64); the output arrays must hold this many, or
-   * `vertex_count` if that is fewer (a vertex is a cone at most once).
-   */
-  uint32_t max_cones;
-  /**
-   * Stop once the conformal flattening's log scale |u| is at most this everywhere (default
-   * 0.7, about a factor of 2 in length; ≥ 0).
-   */
-  double max_log_scale;
-  /**
-   * Optional progress callback (may be NULL), called after each cone.
-   */
-  UvfProgressFn progress;
-  /**
-   * Passed to `progress` unchanged.
-   */
-  void *progress_user;
-} UvfConePlacementOptions;
-
-/**
- * Options of the constrained natural conformal maps and of the boundary editor. Initialise
- * with `uvf_intrinsic_tool_options_default`.
- */
-typedef struct UvfIntrinsicToolOptions {
-  /**
-   * `sizeof(UvfIntrinsicToolOptions)`, set by the default initialiser.
-   */
-  size_t struct_size;
-  /**
-   * Optional progress callback (may be NULL).
-   */
-  UvfProgressFn progress;
-  /**
-   * Passed to `progress` unchanged.
-   */
-  void *progress_user;
-} UvfIntrinsicToolOptions;
-
-/**
- * Options of `uvf_fixed_boundary_map`. Initialise with `uvf_fixed_boundary_options_default`.
- */
-typedef struct UvfFixedBoundaryOptions {
-  /**
-   * `sizeof(UvfFixedBoundaryOptions)`, set by the default initialiser.
-   */
-  size_t struct_size;
-  /**
-   * One of `UVF_WEIGHTS_*` (default mean value).
-   */
-  uint32_t weights;
-  /**
-   * One of `UVF_BOUNDARY_*` (default circle).
-   */
-  uint32_t boundary;
-  /**
-   * One of `UVF_DISTRIBUTION_*` (default chord length).
-   */
-  uint32_t distribution;
-  /**
-   * λ for `UVF_WEIGHTS_INTRINSIC` (default 1).
-   */
-  double lambda;
-  /**
-   * μ for `UVF_WEIGHTS_INTRINSIC` (default 0).
-   */
-  double mu;
-  /**
-   * Number of entries in `given_vertices` (and pairs in `given_uv`) for `UVF_BOUNDARY_GIVEN`.
-   */
-  size_t given_count;
-  /**
-   * Boundary vertices whose UV is given; must cover whole boundary loops.
-   */
-  const uint32_t *given_vertices;
-  /**
-   * 2 doubles per given vertex.
-   */
-  const double *given_uv;
-  /**
-   * Optional progress callback (may be NULL).
-   */
-  UvfProgressFn progress;
-  /**
-   * Passed to `progress` unchanged.
-   */
-  void *progress_user;
-} UvfFixedBoundaryOptions;
-
-/**
- * A point of the surface (triangle index and barycentric coordinates with respect to its
- * three corners, normalized by their sum) and the UV it must map to.
- */
-typedef struct UvfPointConstraint {
-  /**
-   * Triangle index (< triangle_count).
-   */
-  uint32_t triangle;
-  /**
-   * Barycentric coordinates of the point (must not sum to zero).
-   */
-  double barycentric[3];
-  /**
-   * Target UV.
-   */
-  double uv[2];
-} UvfPointConstraint;
-
-/**
- * Options of `uvf_spectral_conformal_map`. Initialise with `uvf_spectral_options_default`.
- */
-typedef struct UvfSpectralOptions {
-  /**
-   * `sizeof(UvfSpectralOptions)`, set by the default initialiser.
-   */
-  size_t struct_size;
-  /**
-   * Inverse-iteration limit (default 200; ≥ 1).
-   */
-  uint32_t iterations;
-  /**
-   * Stop when the eigenpair's normwise backward error is at most this (default 1e-12; > 0).
-   */
-  double tolerance;
-  /**
-   * Optional progress callback (may be NULL), called once per iteration.
-   */
-  UvfProgressFn progress;
-  /**
-   * Passed to `progress` unchanged.
-   */
-  void *progress_user;
-} UvfSpectralOptions;
-
-/**
- * What `uvf_spectral_conformal_map` reports.
- */
-typedef struct UvfSpectralReport {
-  /**
-   * `sizeof(UvfSpectralReport)`, set by the caller before the call; the library writes only the fields
-   * that fit in that many bytes (see Versioning at the top of the header).
-   */
-  size_t struct_size;
-  /**
-   * Inverse iterations done.
-   */
-  uint32_t iterations;
-  /**
-   * 1 when the backward error reached the tolerance, 0 when the iteration limit stopped.
-   */
-  uint32_t converged;
-  /**
-   * The eigenvalue λ of `L_C z = λ B z` (the conformal energy of the boundary-normalized map).
-   */
-  double eigenvalue;
-  /**
-   * Normwise backward error `‖L_C z − λBz‖ / ((‖L_C‖∞ + |λ|)‖z‖)` of the eigenpair.
-   */
-  double residual;
-} UvfSpectralReport;
-
-/**
- * Options of `uvf_intrinsic_optimal_map`. Initialise with
- * `uvf_intrinsic_optimal_options_default`.
- */
-typedef struct UvfIntrinsicOptimalOptions {
-  /**
-   * `sizeof(UvfIntrinsicOptimalOptions)`, set by the default initialiser.
-   */
-  size_t struct_size;
-  /**
-   * `UVF_ENERGY_EDGE_LENGTH` (default) or `UVF_ENERGY_AREA`.
-   */
-  uint32_t energy;
-  /**
-   * One of `UVF_BOUNDARY_*` (default circle); a circle or square is scaled so that the DCP
-   * map's UV area equals the surface area, given positions are used as given.
-   */
-  uint32_t boundary;
-  /**
-   * One of `UVF_DISTRIBUTION_*` (default chord length).
-   */
-  uint32_t distribution;
-  /**
-   * Smallest λ allowed (default -INFINITY).
-   */
-  double lambda_min;
-  /**
-   * Largest λ allowed (default +INFINITY).
-   */
-  double lambda_max;
-  /**
-   * Number of entries of `given_vertices` for `UVF_BOUNDARY_GIVEN`.
-   */
-  size_t given_count;
-  /**
-   * Boundary vertices whose UV is given; must cover whole boundary loops.
-   */
-  const uint32_t *given_vertices;
-  /**
-   * 2 doubles per given vertex.
-   */
-  const double *given_uv;
-  /**
-   * Optional progress callback (may be NULL).
-   */
-  UvfProgressFn progress;
-  /**
-   * Passed to `progress` unchanged.
-   */
-  void *progress_user;
-} UvfIntrinsicOptimalOptions;
-
-/**
- * What `uvf_intrinsic_optimal_map` reports.
- */
-typedef struct UvfIntrinsicOptimalReport {
-  /**
-   * `sizeof(UvfIntrinsicOptimalReport)`, set by the caller before the call; the library writes only the fields
-   * that fit in that many bytes (see Versioning at the top of the header).
-   */
-  size_t struct_size;
-  /**
-   * The minimizing λ of `λ·U^A + (1 − λ)·U^χ`.
-   */
-  double lambda;
-  /**
-   * The energy at λ.
-   */
-  double energy;
-  /**
-   * The energy of the DCP map (λ = 1).
-   */
-  double energy_conformal;
-  /**
-   * The energy of the DAP map (λ = 0).
-   */
-  double energy_authalic;
-  /**
-   * Factor applied to the circle or square boundary (1 for given positions).
-   */
-  double boundary_scale;
-  /**
-   * Clockwise or degenerate UV triangles of the result (λ outside [0, 1] can fold).
-   */
-  size_t flipped;
-} UvfIntrinsicOptimalReport;
-
-/**
- * Options of `uvf_boundary_optimized_map`. Initialise with
- * `uvf_boundary_optimization_options_default`.
- */
-typedef struct UvfBoundaryOptimizationOptions {
-  /**
-   * `sizeof(UvfBoundaryOptimizationOptions)`, set by the default initialiser.
-   */
-  size_t struct_size;
-  /**
-   * `UVF_ENERGY_EDGE_LENGTH` (default) or `UVF_ENERGY_AREA`.
-   */
-  uint32_t energy;
-  /**
-   * Iteration limit (default 100).
-   */
-  uint32_t iterations;
-  /**
-   * λ of the intrinsic map λ·DCP + μ·DAP (default 1).
-   */
-  double lambda;
-  /**
-   * μ of the intrinsic map (default 0).
-   */
-  double mu;
-  /**
-   * Stop when an iteration lowers the energy by less than `tolerance × energy` (default
-   * 1e-6; ≥ 0).
-   */
-  double tolerance;
-  /**
-   * Starting boundary: one of `UVF_BOUNDARY_*` (default circle, scaled to the surface
-   * area); given positions must cover exactly the outer (longest) loop.
-   */
-  uint32_t boundary;
-  /**
-   * One of `UVF_DISTRIBUTION_*` (default chord length).
-   */
-  uint32_t distribution;
-  /**
-   * Number of entries of `given_vertices` for `UVF_BOUNDARY_GIVEN`.
-   */
-  size_t given_count;
-  /**
-   * Outer-loop vertices whose starting UV is given.
-   */
-  const uint32_t *given_vertices;
-  /**
-   * 2 doubles per given vertex.
-   */
-  const double *given_uv;
-  /**
-   * Optional progress callback (may be NULL), called once before each iteration; returning
-   * non-zero cancels before that iteration.
-   */
-  UvfProgressFn progress;
-  /**
-   * Passed to `progress` unchanged.
-   */
-  void *progress_user;
-} UvfBoundaryOptimizationOptions;
-
-/**
- * What `uvf_boundary_optimized_map` reports.
- */
-typedef struct UvfBoundaryOptimizationReport {
-  /**
-   * `sizeof(UvfBoundaryOptimizationReport)`, set by the caller before the call; the library writes only the fields
-   * that fit in that many bytes (see Versioning at the top of the header).
-   */
-  size_t struct_size;
-  /**
-   * Accepted iterations.
-   */
-  uint32_t iterations;
-  /**
-   * 1 when the tolerance was met or no step could lower the energy; 0 when the iteration
-   * limit stopped the descent.
-   */
-  uint32_t converged;
-  /**
-   * Entries of the energy history (iterations + 1: the start, then each iteration), also
-   * when `history_capacity` was smaller.
-   */
-  size_t history_length;
-  /**
-   * Energy of the starting map.
-   */
-  double initial_energy;
-  /**
-   * Energy of the returned map (never above `initial_energy`).
-   */
-  double final_energy;
-  /**
-   * Factor applied to the circle or square start (1 for given positions).
-   */
-  double boundary_scale;
-  /**
-   * Triangles flipped or degenerate in the starting map; no iteration changes any
-   * triangle's orientation, so the result has the same ones (0 for a flip-free start).
-   */
-  size_t flipped;
-} UvfBoundaryOptimizationReport;
 
 /**
  * Counts and topological invariants of a mesh.
@@ -1206,37 +1071,6 @@ typedef struct UvfMeshDesc {
 } UvfMeshDesc;
 
 /**
- * Options of `uvf_natural_conformal_map`. Initialise with
- * `uvf_natural_conformal_options_default`.
- */
-typedef struct UvfNaturalConformalOptions {
-  /**
-   * `sizeof(UvfNaturalConformalOptions)`, set by the default initialiser.
-   */
-  size_t struct_size;
-  /**
-   * 0: pin the two boundary vertices farthest apart (default); 2: use `pin_vertices`.
-   */
-  uint32_t pin_count;
-  /**
-   * The two pinned vertices when `pin_count` is 2.
-   */
-  uint32_t pin_vertices[2];
-  /**
-   * Their UVs: u0, v0, u1, v1.
-   */
-  double pin_uv[4];
-  /**
-   * Optional progress callback (may be NULL).
-   */
-  UvfProgressFn progress;
-  /**
-   * Passed to `progress` unchanged.
-   */
-  void *progress_user;
-} UvfNaturalConformalOptions;
-
-/**
  * Distortion summary of a UV map (see `uvf_metrics`). Distortion fields are NaN when no
  * triangle is measurable.
  */
@@ -1322,6 +1156,93 @@ typedef struct UvfLayoutCheck {
 } UvfLayoutCheck;
 
 /**
+ * Options of `uvf_intrinsic_optimal_map`. Initialise with
+ * `uvf_intrinsic_optimal_options_default`.
+ */
+typedef struct UvfIntrinsicOptimalOptions {
+  /**
+   * `sizeof(UvfIntrinsicOptimalOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * `UVF_ENERGY_EDGE_LENGTH` (default) or `UVF_ENERGY_AREA`.
+   */
+  uint32_t energy;
+  /**
+   * One of `UVF_BOUNDARY_*` (default circle); a circle or square is scaled so that the DCP
+   * map's UV area equals the surface area, given positions are used as given.
+   */
+  uint32_t boundary;
+  /**
+   * One of `UVF_DISTRIBUTION_*` (default chord length).
+   */
+  uint32_t distribution;
+  /**
+   * Smallest λ allowed (default -INFINITY).
+   */
+  double lambda_min;
+  /**
+   * Largest λ allowed (default +INFINITY).
+   */
+  double lambda_max;
+  /**
+   * Number of entries of `given_vertices` for `UVF_BOUNDARY_GIVEN`.
+   */
+  size_t given_count;
+  /**
+   * Boundary vertices whose UV is given; must cover whole boundary loops.
+   */
+  const uint32_t *given_vertices;
+  /**
+   * 2 doubles per given vertex.
+   */
+  const double *given_uv;
+  /**
+   * Optional progress callback (may be NULL).
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfIntrinsicOptimalOptions;
+
+/**
+ * What `uvf_intrinsic_optimal_map` reports.
+ */
+typedef struct UvfIntrinsicOptimalReport {
+  /**
+   * `sizeof(UvfIntrinsicOptimalReport)`, set by the caller before the call; the library writes only the fields
+   * that fit in that many bytes (see Versioning at the top of the header).
+   */
+  size_t struct_size;
+  /**
+   * The minimizing λ of `λ·U^A + (1 − λ)·U^χ`.
+   */
+  double lambda;
+  /**
+   * The energy at λ.
+   */
+  double energy;
+  /**
+   * The energy of the DCP map (λ = 1).
+   */
+  double energy_conformal;
+  /**
+   * The energy of the DAP map (λ = 0).
+   */
+  double energy_authalic;
+  /**
+   * Factor applied to the circle or square boundary (1 for given positions).
+   */
+  double boundary_scale;
+  /**
+   * Clockwise or degenerate UV triangles of the result (λ outside [0, 1] can fold).
+   */
+  size_t flipped;
+} UvfIntrinsicOptimalReport;
+
+/**
  * Options of `uvf_nonlinear_map`. Initialise with `uvf_nonlinear_options_default`.
  */
 typedef struct UvfNonlinearOptions {
@@ -1394,6 +1315,60 @@ typedef struct UvfNonlinearReport {
 } UvfNonlinearReport;
 
 /**
+ * Counts of a chart layout.
+ */
+typedef struct UvfChartLayoutInfo {
+  /**
+   * `sizeof(UvfChartLayoutInfo)`, set by the caller before the call; the library writes only the fields
+   * that fit in that many bytes (see Versioning at the top of the header).
+   */
+  size_t struct_size;
+  /**
+   * Chart-boundary polylines.
+   */
+  size_t polyline_count;
+  /**
+   * Points of all polylines (3 doubles each in `uvf_chart_layout_copy`).
+   */
+  size_t point_count;
+  /**
+   * Charts (faces bounded by the polylines).
+   */
+  size_t chart_count;
+  /**
+   * Charts with four corners (the regular ones).
+   */
+  size_t four_corner_chart_count;
+} UvfChartLayoutInfo;
+
+/**
+ * Counts of a per-chart parameterization.
+ */
+typedef struct UvfPgpChartsInfo {
+  /**
+   * `sizeof(UvfPgpChartsInfo)`, set by the caller before the call; the library writes only the fields
+   * that fit in that many bytes (see Versioning at the top of the header).
+   */
+  size_t struct_size;
+  /**
+   * Vertices of the cut triangulation (the input's first, in the same order).
+   */
+  size_t vertex_count;
+  /**
+   * Triangles of the cut triangulation.
+   */
+  size_t triangle_count;
+  /**
+   * Charts.
+   */
+  size_t chart_count;
+  /**
+   * Charts of each kind, indexed by `UVF_PGP_CHART_*`.
+   */
+  size_t kind_counts[5];
+} UvfPgpChartsInfo;
+
+/**
  * Options of `uvf_curvature`. Initialise with `uvf_curvature_options_default`.
  */
 typedef struct UvfCurvatureOptions {
@@ -1414,6 +1389,33 @@ typedef struct UvfCurvatureOptions {
    */
   double radius;
 } UvfCurvatureOptions;
+
+/**
+ * Counts of a quad-dominant remesh.
+ */
+typedef struct UvfQuadMeshInfo {
+  /**
+   * `sizeof(UvfQuadMeshInfo)`, set by the caller before the call; the library writes only the fields
+   * that fit in that many bytes (see Versioning at the top of the header).
+   */
+  size_t struct_size;
+  /**
+   * Vertices (3 doubles each in `uvf_quad_mesh_copy`).
+   */
+  size_t vertex_count;
+  /**
+   * Faces (polygons).
+   */
+  size_t face_count;
+  /**
+   * Sum of the face sizes (length of the index array).
+   */
+  size_t index_count;
+  /**
+   * Faces with four corners.
+   */
+  size_t quad_count;
+} UvfQuadMeshInfo;
 
 /**
  * Options of `uvf_pgp`. Initialise with `uvf_pgp_options_default`.
@@ -1587,87 +1589,6 @@ typedef struct UvfPgpInfo {
 } UvfPgpInfo;
 
 /**
- * Counts of a quad-dominant remesh.
- */
-typedef struct UvfQuadMeshInfo {
-  /**
-   * `sizeof(UvfQuadMeshInfo)`, set by the caller before the call; the library writes only the fields
-   * that fit in that many bytes (see Versioning at the top of the header).
-   */
-  size_t struct_size;
-  /**
-   * Vertices (3 doubles each in `uvf_quad_mesh_copy`).
-   */
-  size_t vertex_count;
-  /**
-   * Faces (polygons).
-   */
-  size_t face_count;
-  /**
-   * Sum of the face sizes (length of the index array).
-   */
-  size_t index_count;
-  /**
-   * Faces with four corners.
-   */
-  size_t quad_count;
-} UvfQuadMeshInfo;
-
-/**
- * Counts of a chart layout.
- */
-typedef struct UvfChartLayoutInfo {
-  /**
-   * `sizeof(UvfChartLayoutInfo)`, set by the caller before the call; the library writes only the fields
-   * that fit in that many bytes (see Versioning at the top of the header).
-   */
-  size_t struct_size;
-  /**
-   * Chart-boundary polylines.
-   */
-  size_t polyline_count;
-  /**
-   * Points of all polylines (3 doubles each in `uvf_chart_layout_copy`).
-   */
-  size_t point_count;
-  /**
-   * Charts (faces bounded by the polylines).
-   */
-  size_t chart_count;
-  /**
-   * Charts with four corners (the regular ones).
-   */
-  size_t four_corner_chart_count;
-} UvfChartLayoutInfo;
-
-/**
- * Counts of a per-chart parameterization.
- */
-typedef struct UvfPgpChartsInfo {
-  /**
-   * `sizeof(UvfPgpChartsInfo)`, set by the caller before the call; the library writes only the fields
-   * that fit in that many bytes (see Versioning at the top of the header).
-   */
-  size_t struct_size;
-  /**
-   * Vertices of the cut triangulation (the input's first, in the same order).
-   */
-  size_t vertex_count;
-  /**
-   * Triangles of the cut triangulation.
-   */
-  size_t triangle_count;
-  /**
-   * Charts.
-   */
-  size_t chart_count;
-  /**
-   * Charts of each kind, indexed by `UVF_PGP_CHART_*`.
-   */
-  size_t kind_counts[5];
-} UvfPgpChartsInfo;
-
-/**
  * Options of `uvf_quadcover`. Initialise with `uvf_quadcover_options_default`.
  */
 typedef struct UvfQuadCoverOptions {
@@ -1782,6 +1703,85 @@ typedef struct UvfQuadCoverReport {
    */
   uint32_t forced_flat_count;
 } UvfQuadCoverReport;
+
+/**
+ * Options of `uvf_spectral_conformal_map`. Initialise with `uvf_spectral_options_default`.
+ */
+typedef struct UvfSpectralOptions {
+  /**
+   * `sizeof(UvfSpectralOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * Inverse-iteration limit (default 200; ≥ 1).
+   */
+  uint32_t iterations;
+  /**
+   * Stop when the eigenpair's normwise backward error is at most this (default 1e-12; > 0).
+   */
+  double tolerance;
+  /**
+   * Optional progress callback (may be NULL), called once per iteration.
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfSpectralOptions;
+
+/**
+ * What `uvf_spectral_conformal_map` reports.
+ */
+typedef struct UvfSpectralReport {
+  /**
+   * `sizeof(UvfSpectralReport)`, set by the caller before the call; the library writes only the fields
+   * that fit in that many bytes (see Versioning at the top of the header).
+   */
+  size_t struct_size;
+  /**
+   * Inverse iterations done.
+   */
+  uint32_t iterations;
+  /**
+   * 1 when the backward error reached the tolerance, 0 when the iteration limit stopped.
+   */
+  uint32_t converged;
+  /**
+   * The eigenvalue λ of `L_C z = λ B z` (the conformal energy of the boundary-normalized map).
+   */
+  double eigenvalue;
+  /**
+   * Normwise backward error `‖L_C z − λBz‖ / ((‖L_C‖∞ + |λ|)‖z‖)` of the eigenpair.
+   */
+  double residual;
+} UvfSpectralReport;
+
+/**
+ * Options of `uvf_spherical_map`. Initialise with `uvf_sphere_options_default`.
+ */
+typedef struct UvfSphereOptions {
+  /**
+   * `sizeof(UvfSphereOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * One of `UVF_SPHERE_*` (default `UVF_SPHERE_TUTTE_GNOMONIC`).
+   */
+  uint32_t method;
+  /**
+   * Relaxation sweeps (default 100); ignored by the stereographic and circle-pattern methods.
+   */
+  uint32_t sweeps;
+  /**
+   * Optional progress callback (may be NULL); a non-zero return cancels (`UVF_CANCELLED`).
+   */
+  UvfProgressFn progress;
+  /**
+   * Passed to `progress` unchanged.
+   */
+  void *progress_user;
+} UvfSphereOptions;
 
 /**
  * Options of `uvf_unwrap`. Initialise with `uvf_unwrap_options_default`.
@@ -2045,6 +2045,186 @@ enum UvfStatus uvf_atlas_copy_original_vertices(const struct UvfAtlas *atlas,
 void uvf_atlas_free(struct UvfAtlas *atlas);
 
 /**
+ * Fills `options` with defaults (mean value weights, circle, chord-length spacing).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_fixed_boundary_options_default(struct UvfFixedBoundaryOptions *options);
+
+/**
+ * Fixed-boundary barycentric map (Tutte, Floater, DAP/Wachspress, DCP/harmonic, mean value,
+ * or Desbrun et al.'s λ·DCP + μ·DAP): course notes ch. 2, Desbrun et al. 2002 §3–4.1.
+ *
+ * The longest boundary loop goes to the chosen shape (or the given positions); other loops
+ * are holes. `uv_out` receives 2 doubles per vertex (`vertex_count` pairs); unreferenced
+ * vertices get NaN. `options` may be NULL for defaults.
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`
+ * (not a single genus-0 component with a boundary), `UVF_NUMERICAL_FAILURE`,
+ * `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure `uv_out` is untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_fixed_boundary_map(const double *positions,
+                                      size_t vertex_count,
+                                      const uint32_t *triangles,
+                                      size_t triangle_count,
+                                      const struct UvfFixedBoundaryOptions *options,
+                                      double *uv_out);
+
+/**
+ * `uvf_fixed_boundary_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_fixed_boundary_map`.
+ */
+enum UvfStatus uvf_mesh_fixed_boundary_map(const struct UvfMesh *mesh,
+                                           const struct UvfFixedBoundaryOptions *options,
+                                           double *uv_out);
+
+/**
+ * Factors the intrinsic map λ·DCP + μ·DAP (Desbrun et al. 2002 §3.4) of a disk (holes are
+ * filled) with its outer boundary fixed, for real-time boundary editing (§4.2). On success
+ * `*editor_out` owns the editor (free it with `uvf_boundary_editor_free`); it does not keep
+ * pointers to the input arrays. Cost: one sparse factorization (Cholesky when μ = 0, LU
+ * otherwise).
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL `editor_out`, non-finite λ/μ or both zero),
+ * `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`, `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`,
+ * `UVF_INTERNAL_ERROR`. On failure `*editor_out` is set to NULL.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `editor_out` must be writable.
+ */
+enum UvfStatus uvf_boundary_editor_new(const double *positions,
+                                       size_t vertex_count,
+                                       const uint32_t *triangles,
+                                       size_t triangle_count,
+                                       double lambda,
+                                       double mu,
+                                       const struct UvfIntrinsicToolOptions *options,
+                                       struct UvfBoundaryEditor **editor_out);
+
+/**
+ * `uvf_boundary_editor_new` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_boundary_editor_new`.
+ */
+enum UvfStatus uvf_mesh_boundary_editor_new(const struct UvfMesh *mesh,
+                                            double lambda,
+                                            double mu,
+                                            const struct UvfIntrinsicToolOptions *options,
+                                            struct UvfBoundaryEditor **editor_out);
+
+/**
+ * Frees an editor made by `uvf_boundary_editor_new` (NULL is ignored).
+ *
+ * # Safety
+ * `editor` must be NULL or an editor not yet freed, and no solve may be running on it.
+ */
+void uvf_boundary_editor_free(struct UvfBoundaryEditor *editor);
+
+/**
+ * Number of boundary vertices of the editor's outer loop (`*count_out`), and, when
+ * `vertices_out` is not NULL, their indices in the order `uvf_boundary_editor_solve` expects
+ * (`vertices_out` must hold `*count_out` entries: call once with NULL to get the count).
+ * Returns `UVF_OK` or `UVF_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * `editor` must be a live editor; `count_out` writable; `vertices_out` NULL or large enough.
+ */
+enum UvfStatus uvf_boundary_editor_boundary(const struct UvfBoundaryEditor *editor,
+                                            size_t *count_out,
+                                            uint32_t *vertices_out);
+
+/**
+ * The map for new boundary positions (Desbrun et al. 2002 §4.2): `boundary_uv` holds 2
+ * doubles per boundary vertex, in `uvf_boundary_editor_boundary` order (`boundary_count`
+ * vertices); `uv_out` receives 2 doubles per mesh vertex (`vertex_count` of the mesh given to
+ * `uvf_boundary_editor_new`; NaN for unreferenced vertices). One sparse product and one pair
+ * of triangular solves; safe to call concurrently on one editor from several threads.
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointers, wrong count, non-finite position),
+ * `UVF_NUMERICAL_FAILURE`, `UVF_INTERNAL_ERROR`. On failure `uv_out` is untouched.
+ *
+ * # Safety
+ * `editor` must be a live editor; the arrays must hold the stated number of elements.
+ */
+enum UvfStatus uvf_boundary_editor_solve(const struct UvfBoundaryEditor *editor,
+                                         const double *boundary_uv,
+                                         size_t boundary_count,
+                                         double *uv_out);
+
+/**
+ * The explicit Green-function basis (impulse responses, Desbrun et al. 2002 §4.2): `basis_out`
+ * receives b × n doubles (b boundary vertices, n mesh vertices), `basis_out[i * n + v]` being
+ * the weight of boundary vertex i in the UV of vertex v, so that
+ * `uv[v] = Σ_i basis_out[i * n + v] · boundary_uv[i]`. Memory: 8·n·b bytes; when that exceeds
+ * `max_bytes` the call returns `UVF_INVALID_ARGUMENT` without computing anything. Cost: b
+ * solves (in blocks of 32).
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_NUMERICAL_FAILURE`, `UVF_INTERNAL_ERROR`.
+ *
+ * # Safety
+ * `editor` must be a live editor; `basis_out` must hold b·n doubles.
+ */
+enum UvfStatus uvf_boundary_editor_basis(const struct UvfBoundaryEditor *editor,
+                                         size_t max_bytes,
+                                         double *basis_out);
+
+/**
+ * Fills `options` with defaults (edge-length energy, DCP, circle, 100 iterations).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_boundary_optimization_options_default(struct UvfBoundaryOptimizationOptions *options);
+
+/**
+ * Boundary-optimized intrinsic map (Desbrun et al. 2002 §5.2): the map λ·DCP + μ·DAP whose
+ * outer boundary minimizes the chosen distortion energy, by descent on the boundary positions
+ * (gradient through the impulse responses of the factored map, L-BFGS directions, exact line
+ * search on the energy polynomial, steps that never flip or degenerate a triangle).
+ *
+ * `uv_out` receives 2 doubles per vertex. `history_out` receives the first
+ * `min(history_capacity, history_length)` energies (start first; may be NULL when
+ * `history_capacity` is 0); `report_out->history_length` says how many there were. `options`
+ * and `report_out` may be NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`,
+ * `UVF_UNSUPPORTED_TOPOLOGY`, `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED` (the callback stops the
+ * run before its next iteration), `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_boundary_optimized_map(const double *positions,
+                                          size_t vertex_count,
+                                          const uint32_t *triangles,
+                                          size_t triangle_count,
+                                          const struct UvfBoundaryOptimizationOptions *options,
+                                          double *uv_out,
+                                          double *history_out,
+                                          size_t history_capacity,
+                                          struct UvfBoundaryOptimizationReport *report_out);
+
+/**
+ * `uvf_boundary_optimized_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_boundary_optimized_map`.
+ */
+enum UvfStatus uvf_mesh_boundary_optimized_map(const struct UvfMesh *mesh,
+                                               const struct UvfBoundaryOptimizationOptions *options,
+                                               double *uv_out,
+                                               double *history_out,
+                                               size_t history_capacity,
+                                               struct UvfBoundaryOptimizationReport *report_out);
+
+/**
  * Fills `options` with defaults (100 iterations, tolerance 1e-11, automatic pins, no callback,
  * intrinsic Delaunay flips on).
  *
@@ -2182,150 +2362,6 @@ enum UvfStatus uvf_mesh_circle_pattern_polygon_curvature(const struct UvfMesh *m
                                                          double *curvature_out);
 
 /**
- * Fills `options` with defaults (curvature-weighted edge length).
- *
- * # Safety
- * `options` must be NULL or point to a writable struct.
- */
-void uvf_cut_options_default(struct UvfCutOptions *options);
-
-/**
- * Cuts a connected manifold mesh (closed or with boundary loops, any genus) into a topological
- * disk: tree–cotree cut graph (Eppstein 2003) with a shortest-path primal tree and a maximum
- * dual tree by loop length (Erickson & Whittlesey's greedy loops), dangling branches pruned,
- * boundary loops joined; closed genus-0 meshes are cut along a path between two far vertices.
- * The cut is steered by the edge cost (Seamster-like: short edges and sharp creases are cheap).
- *
- * On success `*cut_out` receives a handle to free with `uvf_cut_free`. The cut mesh has the
- * input's triangles (same order) over a new vertex set; run any disk method on
- * (`uvf_cut_copy_positions`, `uvf_cut_copy_triangles`) and use the result as per-corner UVs.
- * `options` may be NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointer, bad cost),
- * `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (several components), `UVF_INTERNAL_ERROR`.
- * On failure `*cut_out` is untouched.
- *
- * # Safety
- * The arrays must hold the stated number of elements; `cut_out` must be writable.
- */
-enum UvfStatus uvf_cut_to_disk(const double *positions,
-                               size_t vertex_count,
-                               const uint32_t *triangles,
-                               size_t triangle_count,
-                               const struct UvfCutOptions *options,
-                               struct UvfCut **cut_out);
-
-/**
- * `uvf_cut_to_disk` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
- * the same options, outputs and statuses, with the handle's vertex and triangle counts.
- *
- * # Safety
- * `mesh` must be a live handle or NULL; the other pointers as for `uvf_cut_to_disk`.
- */
-enum UvfStatus uvf_mesh_cut_to_disk(const struct UvfMesh *mesh,
-                                    const struct UvfCutOptions *options,
-                                    struct UvfCut **cut_out);
-
-/**
- * Sizes and seam length of a cut. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
- *
- * # Safety
- * `cut` must be a live handle or NULL; `info_out` writable.
- */
-enum UvfStatus uvf_cut_info(const struct UvfCut *cut, struct UvfCutInfo *info_out);
-
-/**
- * The cut edges as pairs of input vertex indices `a < b`: `2 × edge_count` entries written to
- * `edges_out`, whose capacity (in `uint32_t`) is `capacity`. Returns `UVF_OK` or
- * `UVF_INVALID_ARGUMENT` (NULL, capacity too small; output untouched).
- *
- * # Safety
- * `cut` must be a live handle or NULL; `edges_out` must hold `capacity` elements.
- */
-enum UvfStatus uvf_cut_copy_edges(const struct UvfCut *cut, uint32_t *edges_out, size_t capacity);
-
-/**
- * Triangles of the cut mesh: `3 × triangle_count` cut-mesh vertex indices (corner k of input
- * triangle t at `3t + k`), i.e. the per-corner UV indices of any map computed on the cut mesh.
- * Statuses as `uvf_cut_copy_edges`.
- *
- * # Safety
- * `cut` must be a live handle or NULL; `triangles_out` must hold `capacity` elements.
- */
-enum UvfStatus uvf_cut_copy_triangles(const struct UvfCut *cut,
-                                      uint32_t *triangles_out,
-                                      size_t capacity);
-
-/**
- * The input vertex of every cut-mesh vertex: `vertex_count` entries. Statuses as
- * `uvf_cut_copy_edges`.
- *
- * # Safety
- * `cut` must be a live handle or NULL; `original_out` must hold `capacity` elements.
- */
-enum UvfStatus uvf_cut_copy_original_vertices(const struct UvfCut *cut,
-                                              uint32_t *original_out,
-                                              size_t capacity);
-
-/**
- * Positions of the cut-mesh vertices (copies of their input vertices): `3 × vertex_count`
- * doubles. Statuses as `uvf_cut_copy_edges`.
- *
- * # Safety
- * `cut` must be a live handle or NULL; `positions_out` must hold `capacity` elements.
- */
-enum UvfStatus uvf_cut_copy_positions(const struct UvfCut *cut,
-                                      double *positions_out,
-                                      size_t capacity);
-
-/**
- * Releases a cut handle (NULL is ignored).
- *
- * # Safety
- * `cut` must come from `uvf_cut_to_disk` and not have been freed.
- */
-void uvf_cut_free(struct UvfCut *cut);
-
-/**
- * Fills `options` with defaults (Tutte–gnomonic, 100 sweeps).
- *
- * # Safety
- * `options` must be NULL or point to a writable struct.
- */
-void uvf_sphere_options_default(struct UvfSphereOptions *options);
-
-/**
- * Spherical parameterization of a closed genus-0 mesh (course notes §6.1): unit-sphere
- * positions, 3 doubles per vertex in `sphere_out` (`vertex_count` triples; NaN for
- * unreferenced vertices), and in `*flipped_out` the number of triangles with
- * `det[p0, p1, p2] ≤ 0` (0 for `UVF_SPHERE_TUTTE_GNOMONIC` by construction). `options` may be
- * NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`,
- * `UVF_UNSUPPORTED_TOPOLOGY` (not one closed genus-0 surface), `UVF_NUMERICAL_FAILURE`,
- * `UVF_CANCELLED` (the progress callback returned non-zero), `UVF_INTERNAL_ERROR`. On failure
- * the outputs are untouched.
- *
- * # Safety
- * The arrays must hold the stated number of elements; `flipped_out` must be writable.
- */
-enum UvfStatus uvf_spherical_map(const double *positions,
-                                 size_t vertex_count,
-                                 const uint32_t *triangles,
-                                 size_t triangle_count,
-                                 const struct UvfSphereOptions *options,
-                                 double *sphere_out,
-                                 size_t *flipped_out);
-
-/**
- * `uvf_spherical_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
- * the same options, outputs and statuses, with the handle's vertex and triangle counts.
- *
- * # Safety
- * `mesh` must be a live handle or NULL; the other pointers as for `uvf_spherical_map`.
- */
-enum UvfStatus uvf_mesh_spherical_map(const struct UvfMesh *mesh,
-                                      const struct UvfSphereOptions *options,
-                                      double *sphere_out,
-                                      size_t *flipped_out);
-
-/**
  * Fills `options` with defaults (at most 64 cones, log scale 0.7, no callback).
  *
  * # Safety
@@ -2378,39 +2414,40 @@ enum UvfStatus uvf_mesh_place_cones(const struct UvfMesh *mesh,
                                     double *max_log_scale_out);
 
 /**
- * Human-readable message of the last call on this thread if it failed, "" if it succeeded.
- * The pointer stays valid until the next *failing* uvflat call on the same thread (successful
- * calls do not invalidate it) or the thread's exit; copy it with `uvf_last_error` to keep it.
- */
-const char *uvf_last_error_message(void);
-
-/**
- * Copies the message of `uvf_last_error_message` into `buffer` (capacity `capacity` bytes,
- * always NUL-terminated when `capacity > 0`, truncated if needed; `buffer` may be NULL when
- * `capacity` is 0). Returns the message's full length in bytes without the NUL, as `snprintf`
- * does, so a result ≥ `capacity` means it was truncated.
+ * Fills `options` with defaults (automatic pins).
  *
  * # Safety
- * `buffer` must point to `capacity` writable bytes.
+ * `options` must be NULL or point to a writable struct.
  */
-size_t uvf_last_error(char *buffer, size_t capacity);
+void uvf_natural_conformal_options_default(struct UvfNaturalConformalOptions *options);
 
 /**
- * Library version as a static NUL-terminated string, e.g. "1.0.0" (`UVF_VERSION_STRING` in
- * the header the program was built with).
+ * Natural conformal map (Desbrun et al. 2002 §4.2 eq. 7; identical to LSCM): free boundary,
+ * two pinned vertices (automatic: the farthest boundary pair, at (0,0) and (d,0)).
+ *
+ * `uv_out` receives 2 doubles per vertex; unreferenced vertices get NaN. `options` may be
+ * NULL. Statuses as `uvf_fixed_boundary_map`.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements.
  */
-const char *uvf_version(void);
+enum UvfStatus uvf_natural_conformal_map(const double *positions,
+                                         size_t vertex_count,
+                                         const uint32_t *triangles,
+                                         size_t triangle_count,
+                                         const struct UvfNaturalConformalOptions *options,
+                                         double *uv_out);
 
 /**
- * Library version as one number, `major * 10000 + minor * 100 + patch` (the encoding of
- * `UVF_VERSION_NUMBER` in the header).
+ * `uvf_natural_conformal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_natural_conformal_map`.
  */
-uint32_t uvf_version_number(void);
-
-/**
- * ABI version of the loaded library; compare with `UVF_ABI_VERSION` from the header.
- */
-uint32_t uvf_abi_version(void);
+enum UvfStatus uvf_mesh_natural_conformal_map(const struct UvfMesh *mesh,
+                                              const struct UvfNaturalConformalOptions *options,
+                                              double *uv_out);
 
 /**
  * Fills `options` with defaults (no progress callback).
@@ -2528,237 +2565,142 @@ enum UvfStatus uvf_mesh_pinned_natural_conformal_map(const struct UvfMesh *mesh,
                                                      double *uv_out);
 
 /**
- * Factors the intrinsic map λ·DCP + μ·DAP (Desbrun et al. 2002 §3.4) of a disk (holes are
- * filled) with its outer boundary fixed, for real-time boundary editing (§4.2). On success
- * `*editor_out` owns the editor (free it with `uvf_boundary_editor_free`); it does not keep
- * pointers to the input arrays. Cost: one sparse factorization (Cholesky when μ = 0, LU
- * otherwise).
- *
- * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL `editor_out`, non-finite λ/μ or both zero),
- * `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`, `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`,
- * `UVF_INTERNAL_ERROR`. On failure `*editor_out` is set to NULL.
- *
- * # Safety
- * The arrays must hold the stated number of elements; `editor_out` must be writable.
- */
-enum UvfStatus uvf_boundary_editor_new(const double *positions,
-                                       size_t vertex_count,
-                                       const uint32_t *triangles,
-                                       size_t triangle_count,
-                                       double lambda,
-                                       double mu,
-                                       const struct UvfIntrinsicToolOptions *options,
-                                       struct UvfBoundaryEditor **editor_out);
-
-/**
- * `uvf_boundary_editor_new` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
- * the same options, outputs and statuses, with the handle's vertex and triangle counts.
- *
- * # Safety
- * `mesh` must be a live handle or NULL; the other pointers as for `uvf_boundary_editor_new`.
- */
-enum UvfStatus uvf_mesh_boundary_editor_new(const struct UvfMesh *mesh,
-                                            double lambda,
-                                            double mu,
-                                            const struct UvfIntrinsicToolOptions *options,
-                                            struct UvfBoundaryEditor **editor_out);
-
-/**
- * Frees an editor made by `uvf_boundary_editor_new` (NULL is ignored).
- *
- * # Safety
- * `editor` must be NULL or an editor not yet freed, and no solve may be running on it.
- */
-void uvf_boundary_editor_free(struct UvfBoundaryEditor *editor);
-
-/**
- * Number of boundary vertices of the editor's outer loop (`*count_out`), and, when
- * `vertices_out` is not NULL, their indices in the order `uvf_boundary_editor_solve` expects
- * (`vertices_out` must hold `*count_out` entries: call once with NULL to get the count).
- * Returns `UVF_OK` or `UVF_INVALID_ARGUMENT`.
- *
- * # Safety
- * `editor` must be a live editor; `count_out` writable; `vertices_out` NULL or large enough.
- */
-enum UvfStatus uvf_boundary_editor_boundary(const struct UvfBoundaryEditor *editor,
-                                            size_t *count_out,
-                                            uint32_t *vertices_out);
-
-/**
- * The map for new boundary positions (Desbrun et al. 2002 §4.2): `boundary_uv` holds 2
- * doubles per boundary vertex, in `uvf_boundary_editor_boundary` order (`boundary_count`
- * vertices); `uv_out` receives 2 doubles per mesh vertex (`vertex_count` of the mesh given to
- * `uvf_boundary_editor_new`; NaN for unreferenced vertices). One sparse product and one pair
- * of triangular solves; safe to call concurrently on one editor from several threads.
- *
- * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointers, wrong count, non-finite position),
- * `UVF_NUMERICAL_FAILURE`, `UVF_INTERNAL_ERROR`. On failure `uv_out` is untouched.
- *
- * # Safety
- * `editor` must be a live editor; the arrays must hold the stated number of elements.
- */
-enum UvfStatus uvf_boundary_editor_solve(const struct UvfBoundaryEditor *editor,
-                                         const double *boundary_uv,
-                                         size_t boundary_count,
-                                         double *uv_out);
-
-/**
- * The explicit Green-function basis (impulse responses, Desbrun et al. 2002 §4.2): `basis_out`
- * receives b × n doubles (b boundary vertices, n mesh vertices), `basis_out[i * n + v]` being
- * the weight of boundary vertex i in the UV of vertex v, so that
- * `uv[v] = Σ_i basis_out[i * n + v] · boundary_uv[i]`. Memory: 8·n·b bytes; when that exceeds
- * `max_bytes` the call returns `UVF_INVALID_ARGUMENT` without computing anything. Cost: b
- * solves (in blocks of 32).
- *
- * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_NUMERICAL_FAILURE`, `UVF_INTERNAL_ERROR`.
- *
- * # Safety
- * `editor` must be a live editor; `basis_out` must hold b·n doubles.
- */
-enum UvfStatus uvf_boundary_editor_basis(const struct UvfBoundaryEditor *editor,
-                                         size_t max_bytes,
-                                         double *basis_out);
-
-/**
- * Fills `options` with defaults (200 iterations, tolerance 1e-12, no callback).
+ * Fills `options` with defaults (curvature-weighted edge length).
  *
  * # Safety
  * `options` must be NULL or point to a writable struct.
  */
-void uvf_spectral_options_default(struct UvfSpectralOptions *options);
+void uvf_cut_options_default(struct UvfCutOptions *options);
 
 /**
- * Spectral conformal map (Mullen, Tong, Alliez, Desbrun 2008): the free-boundary conformal map
- * without pinned vertices, the generalized eigenvector of `L_C z = λ B z` (L_C the conformal
- * energy, B 1 on boundary vertices) with the smallest non-trivial eigenvalue, by inverse
- * iteration on one sparse factorization. The result is scaled to the surface area with the
- * two boundary vertices farthest apart at (0, 0) and on the +u axis; it is invariant (up to
- * that placement) to rigid motions and scaling of the input, and a developable mesh gets its
- * exact development.
+ * Cuts a connected manifold mesh (closed or with boundary loops, any genus) into a topological
+ * disk: tree–cotree cut graph (Eppstein 2003) with a shortest-path primal tree and a maximum
+ * dual tree by loop length (Erickson & Whittlesey's greedy loops), dangling branches pruned,
+ * boundary loops joined; closed genus-0 meshes are cut along a path between two far vertices.
+ * The cut is steered by the edge cost (Seamster-like: short edges and sharp creases are cheap).
  *
- * `uv_out` receives 2 doubles per vertex (NaN for unreferenced ones); `options` and
- * `report_out` may be NULL. A run that reaches the iteration limit without the tolerance
- * still returns `UVF_OK` with `report_out->converged = 0`. Returns `UVF_OK`,
- * `UVF_INVALID_ARGUMENT` (bad pointer or option), `UVF_INVALID_MESH`,
- * `UVF_UNSUPPORTED_TOPOLOGY` (not a connected genus-0 mesh with a boundary),
- * `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
- * untouched.
+ * On success `*cut_out` receives a handle to free with `uvf_cut_free`. The cut mesh has the
+ * input's triangles (same order) over a new vertex set; run any disk method on
+ * (`uvf_cut_copy_positions`, `uvf_cut_copy_triangles`) and use the result as per-corner UVs.
+ * `options` may be NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL pointer, bad cost),
+ * `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY` (several components), `UVF_INTERNAL_ERROR`.
+ * On failure `*cut_out` is untouched.
  *
  * # Safety
- * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+ * The arrays must hold the stated number of elements; `cut_out` must be writable.
  */
-enum UvfStatus uvf_spectral_conformal_map(const double *positions,
-                                          size_t vertex_count,
-                                          const uint32_t *triangles,
-                                          size_t triangle_count,
-                                          const struct UvfSpectralOptions *options,
-                                          double *uv_out,
-                                          struct UvfSpectralReport *report_out);
+enum UvfStatus uvf_cut_to_disk(const double *positions,
+                               size_t vertex_count,
+                               const uint32_t *triangles,
+                               size_t triangle_count,
+                               const struct UvfCutOptions *options,
+                               struct UvfCut **cut_out);
 
 /**
- * `uvf_spectral_conformal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * `uvf_cut_to_disk` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
  * the same options, outputs and statuses, with the handle's vertex and triangle counts.
  *
  * # Safety
- * `mesh` must be a live handle or NULL; the other pointers as for `uvf_spectral_conformal_map`.
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_cut_to_disk`.
  */
-enum UvfStatus uvf_mesh_spectral_conformal_map(const struct UvfMesh *mesh,
-                                               const struct UvfSpectralOptions *options,
-                                               double *uv_out,
-                                               struct UvfSpectralReport *report_out);
+enum UvfStatus uvf_mesh_cut_to_disk(const struct UvfMesh *mesh,
+                                    const struct UvfCutOptions *options,
+                                    struct UvfCut **cut_out);
 
 /**
- * Fills `options` with defaults (edge-length energy, circle, chord length, λ unbounded).
+ * Sizes and seam length of a cut. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
  *
  * # Safety
- * `options` must be NULL or point to a writable struct.
+ * `cut` must be a live handle or NULL; `info_out` writable.
  */
-void uvf_intrinsic_optimal_options_default(struct UvfIntrinsicOptimalOptions *options);
+enum UvfStatus uvf_cut_info(const struct UvfCut *cut, struct UvfCutInfo *info_out);
 
 /**
- * Near-optimal intrinsic map (Desbrun et al. 2002 §5.1, eq. 8): the map
- * `λ·U^A + (1 − λ)·U^χ` (U^A the DCP map, U^χ the DAP map, same boundary) minimizing the
- * chosen distortion energy over λ in [`lambda_min`, `lambda_max`]. The energy is an exact
- * polynomial in λ (degree 4 for edge lengths, 8 for areas); its minimum is found by root
- * finding on the derivative and compared with the range's ends and with λ = 0 and λ = 1, so
- * the result is never worse than pure DCP or pure DAP when they are in the range.
- *
- * `uv_out` receives 2 doubles per vertex; `options` and `report_out` may be NULL. Returns
- * `UVF_OK`, `UVF_INVALID_ARGUMENT` (bad pointer, unknown energy/boundary/distribution, empty
- * or NaN λ range, bad given boundary), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`,
- * `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
- * untouched.
+ * The cut edges as pairs of input vertex indices `a < b`: `2 × edge_count` entries written to
+ * `edges_out`, whose capacity (in `uint32_t`) is `capacity`. Returns `UVF_OK` or
+ * `UVF_INVALID_ARGUMENT` (NULL, capacity too small; output untouched).
  *
  * # Safety
- * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+ * `cut` must be a live handle or NULL; `edges_out` must hold `capacity` elements.
  */
-enum UvfStatus uvf_intrinsic_optimal_map(const double *positions,
-                                         size_t vertex_count,
-                                         const uint32_t *triangles,
-                                         size_t triangle_count,
-                                         const struct UvfIntrinsicOptimalOptions *options,
-                                         double *uv_out,
-                                         struct UvfIntrinsicOptimalReport *report_out);
+enum UvfStatus uvf_cut_copy_edges(const struct UvfCut *cut, uint32_t *edges_out, size_t capacity);
 
 /**
- * `uvf_intrinsic_optimal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
- * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ * Triangles of the cut mesh: `3 × triangle_count` cut-mesh vertex indices (corner k of input
+ * triangle t at `3t + k`), i.e. the per-corner UV indices of any map computed on the cut mesh.
+ * Statuses as `uvf_cut_copy_edges`.
  *
  * # Safety
- * `mesh` must be a live handle or NULL; the other pointers as for `uvf_intrinsic_optimal_map`.
+ * `cut` must be a live handle or NULL; `triangles_out` must hold `capacity` elements.
  */
-enum UvfStatus uvf_mesh_intrinsic_optimal_map(const struct UvfMesh *mesh,
-                                              const struct UvfIntrinsicOptimalOptions *options,
-                                              double *uv_out,
-                                              struct UvfIntrinsicOptimalReport *report_out);
+enum UvfStatus uvf_cut_copy_triangles(const struct UvfCut *cut,
+                                      uint32_t *triangles_out,
+                                      size_t capacity);
 
 /**
- * Fills `options` with defaults (edge-length energy, DCP, circle, 100 iterations).
+ * The input vertex of every cut-mesh vertex: `vertex_count` entries. Statuses as
+ * `uvf_cut_copy_edges`.
  *
  * # Safety
- * `options` must be NULL or point to a writable struct.
+ * `cut` must be a live handle or NULL; `original_out` must hold `capacity` elements.
  */
-void uvf_boundary_optimization_options_default(struct UvfBoundaryOptimizationOptions *options);
+enum UvfStatus uvf_cut_copy_original_vertices(const struct UvfCut *cut,
+                                              uint32_t *original_out,
+                                              size_t capacity);
 
 /**
- * Boundary-optimized intrinsic map (Desbrun et al. 2002 §5.2): the map λ·DCP + μ·DAP whose
- * outer boundary minimizes the chosen distortion energy, by descent on the boundary positions
- * (gradient through the impulse responses of the factored map, L-BFGS directions, exact line
- * search on the energy polynomial, steps that never flip or degenerate a triangle).
- *
- * `uv_out` receives 2 doubles per vertex. `history_out` receives the first
- * `min(history_capacity, history_length)` energies (start first; may be NULL when
- * `history_capacity` is 0); `report_out->history_length` says how many there were. `options`
- * and `report_out` may be NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`,
- * `UVF_UNSUPPORTED_TOPOLOGY`, `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED` (the callback stops the
- * run before its next iteration), `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
+ * Positions of the cut-mesh vertices (copies of their input vertices): `3 × vertex_count`
+ * doubles. Statuses as `uvf_cut_copy_edges`.
  *
  * # Safety
- * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+ * `cut` must be a live handle or NULL; `positions_out` must hold `capacity` elements.
  */
-enum UvfStatus uvf_boundary_optimized_map(const double *positions,
-                                          size_t vertex_count,
-                                          const uint32_t *triangles,
-                                          size_t triangle_count,
-                                          const struct UvfBoundaryOptimizationOptions *options,
-                                          double *uv_out,
-                                          double *history_out,
-                                          size_t history_capacity,
-                                          struct UvfBoundaryOptimizationReport *report_out);
+enum UvfStatus uvf_cut_copy_positions(const struct UvfCut *cut,
+                                      double *positions_out,
+                                      size_t capacity);
 
 /**
- * `uvf_boundary_optimized_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
- * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ * Releases a cut handle (NULL is ignored).
  *
  * # Safety
- * `mesh` must be a live handle or NULL; the other pointers as for `uvf_boundary_optimized_map`.
+ * `cut` must come from `uvf_cut_to_disk` and not have been freed.
  */
-enum UvfStatus uvf_mesh_boundary_optimized_map(const struct UvfMesh *mesh,
-                                               const struct UvfBoundaryOptimizationOptions *options,
-                                               double *uv_out,
-                                               double *history_out,
-                                               size_t history_capacity,
-                                               struct UvfBoundaryOptimizationReport *report_out);
+void uvf_cut_free(struct UvfCut *cut);
+
+/**
+ * Human-readable message of the last call on this thread if it failed, "" if it succeeded.
+ * The pointer stays valid until the next *failing* uvflat call on the same thread (successful
+ * calls do not invalidate it) or the thread's exit; copy it with `uvf_last_error` to keep it.
+ */
+const char *uvf_last_error_message(void);
+
+/**
+ * Copies the message of `uvf_last_error_message` into `buffer` (capacity `capacity` bytes,
+ * always NUL-terminated when `capacity > 0`, truncated if needed; `buffer` may be NULL when
+ * `capacity` is 0). Returns the message's full length in bytes without the NUL, as `snprintf`
+ * does, so a result ≥ `capacity` means it was truncated.
+ *
+ * # Safety
+ * `buffer` must point to `capacity` writable bytes.
+ */
+size_t uvf_last_error(char *buffer, size_t capacity);
+
+/**
+ * Library version as a static NUL-terminated string, e.g. "1.0.0" (`UVF_VERSION_STRING` in
+ * the header the program was built with).
+ */
+const char *uvf_version(void);
+
+/**
+ * Library version as one number, `major * 10000 + minor * 100 + patch` (the encoding of
+ * `UVF_VERSION_NUMBER` in the header).
+ */
+uint32_t uvf_version_number(void);
+
+/**
+ * ABI version of the loaded library; compare with `UVF_ABI_VERSION` from the header.
+ */
+uint32_t uvf_abi_version(void);
 
 /**
  * Validates a mesh and reports its topology.
@@ -2909,82 +2851,6 @@ enum UvfStatus uvf_mesh_face_corner_uv(const struct UvfMesh *mesh,
                                        size_t capacity);
 
 /**
- * Fills `options` with defaults (mean value weights, circle, chord-length spacing).
- *
- * # Safety
- * `options` must be NULL or point to a writable struct.
- */
-void uvf_fixed_boundary_options_default(struct UvfFixedBoundaryOptions *options);
-
-/**
- * Fills `options` with defaults (automatic pins).
- *
- * # Safety
- * `options` must be NULL or point to a writable struct.
- */
-void uvf_natural_conformal_options_default(struct UvfNaturalConformalOptions *options);
-
-/**
- * Fixed-boundary barycentric map (Tutte, Floater, DAP/Wachspress, DCP/harmonic, mean value,
- * or Desbrun et al.'s λ·DCP + μ·DAP): course notes ch. 2, Desbrun et al. 2002 §3–4.1.
- *
- * The longest boundary loop goes to the chosen shape (or the given positions); other loops
- * are holes. `uv_out` receives 2 doubles per vertex (`vertex_count` pairs); unreferenced
- * vertices get NaN. `options` may be NULL for defaults.
- * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`
- * (not a single genus-0 component with a boundary), `UVF_NUMERICAL_FAILURE`,
- * `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure `uv_out` is untouched.
- *
- * # Safety
- * The arrays must hold the stated number of elements.
- */
-enum UvfStatus uvf_fixed_boundary_map(const double *positions,
-                                      size_t vertex_count,
-                                      const uint32_t *triangles,
-                                      size_t triangle_count,
-                                      const struct UvfFixedBoundaryOptions *options,
-                                      double *uv_out);
-
-/**
- * `uvf_fixed_boundary_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
- * the same options, outputs and statuses, with the handle's vertex and triangle counts.
- *
- * # Safety
- * `mesh` must be a live handle or NULL; the other pointers as for `uvf_fixed_boundary_map`.
- */
-enum UvfStatus uvf_mesh_fixed_boundary_map(const struct UvfMesh *mesh,
-                                           const struct UvfFixedBoundaryOptions *options,
-                                           double *uv_out);
-
-/**
- * Natural conformal map (Desbrun et al. 2002 §4.2 eq. 7; identical to LSCM): free boundary,
- * two pinned vertices (automatic: the farthest boundary pair, at (0,0) and (d,0)).
- *
- * `uv_out` receives 2 doubles per vertex; unreferenced vertices get NaN. `options` may be
- * NULL. Statuses as `uvf_fixed_boundary_map`.
- *
- * # Safety
- * The arrays must hold the stated number of elements.
- */
-enum UvfStatus uvf_natural_conformal_map(const double *positions,
-                                         size_t vertex_count,
-                                         const uint32_t *triangles,
-                                         size_t triangle_count,
-                                         const struct UvfNaturalConformalOptions *options,
-                                         double *uv_out);
-
-/**
- * `uvf_natural_conformal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
- * the same options, outputs and statuses, with the handle's vertex and triangle counts.
- *
- * # Safety
- * `mesh` must be a live handle or NULL; the other pointers as for `uvf_natural_conformal_map`.
- */
-enum UvfStatus uvf_mesh_natural_conformal_map(const struct UvfMesh *mesh,
-                                              const struct UvfNaturalConformalOptions *options,
-                                              double *uv_out);
-
-/**
  * Distortion of a UV map (Hormann, Lévy, Sheffer 2008 course notes §3.3 and ch. 4; Sander et
  * al. 2001 stretch): singular values of each triangle's Jacobian summarised as stretch,
  * conformal, angle and area distortion, plus flipped triangles and UV-boundary crossings.
@@ -3042,6 +2908,51 @@ enum UvfStatus uvf_check_layout(const double *uv,
                                 const uint32_t *uv_triangles,
                                 size_t triangle_count,
                                 struct UvfLayoutCheck *out);
+
+/**
+ * Fills `options` with defaults (edge-length energy, circle, chord length, λ unbounded).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_intrinsic_optimal_options_default(struct UvfIntrinsicOptimalOptions *options);
+
+/**
+ * Near-optimal intrinsic map (Desbrun et al. 2002 §5.1, eq. 8): the map
+ * `λ·U^A + (1 − λ)·U^χ` (U^A the DCP map, U^χ the DAP map, same boundary) minimizing the
+ * chosen distortion energy over λ in [`lambda_min`, `lambda_max`]. The energy is an exact
+ * polynomial in λ (degree 4 for edge lengths, 8 for areas); its minimum is found by root
+ * finding on the derivative and compared with the range's ends and with λ = 0 and λ = 1, so
+ * the result is never worse than pure DCP or pure DAP when they are in the range.
+ *
+ * `uv_out` receives 2 doubles per vertex; `options` and `report_out` may be NULL. Returns
+ * `UVF_OK`, `UVF_INVALID_ARGUMENT` (bad pointer, unknown energy/boundary/distribution, empty
+ * or NaN λ range, bad given boundary), `UVF_INVALID_MESH`, `UVF_UNSUPPORTED_TOPOLOGY`,
+ * `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
+ * untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_intrinsic_optimal_map(const double *positions,
+                                         size_t vertex_count,
+                                         const uint32_t *triangles,
+                                         size_t triangle_count,
+                                         const struct UvfIntrinsicOptimalOptions *options,
+                                         double *uv_out,
+                                         struct UvfIntrinsicOptimalReport *report_out);
+
+/**
+ * `uvf_intrinsic_optimal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_intrinsic_optimal_map`.
+ */
+enum UvfStatus uvf_mesh_intrinsic_optimal_map(const struct UvfMesh *mesh,
+                                              const struct UvfIntrinsicOptimalOptions *options,
+                                              double *uv_out,
+                                              struct UvfIntrinsicOptimalReport *report_out);
 
 /**
  * Fills `options` with defaults (SLIM, 100 iterations, tolerance 1e-7, θ = 3).
@@ -3103,222 +3014,6 @@ enum UvfStatus uvf_mesh_nonlinear_map(const struct UvfMesh *mesh,
                                       const struct UvfNonlinearOptions *options,
                                       double *uv_out,
                                       struct UvfNonlinearReport *report_out);
-
-/**
- * Fills `options` with defaults (two rings).
- *
- * # Safety
- * `options` must be NULL or point to a writable struct.
- */
-void uvf_curvature_options_default(struct UvfCurvatureOptions *options);
-
-/**
- * Principal curvatures per vertex by the normal-cycle tensor of Cohen-Steiner & Morvan 2003
- * (the input field of Ray et al. 2006, §4.2), averaged over a neighbourhood of each vertex.
- *
- * Outputs (each may be NULL to skip it): `kmin_direction_out` and `kmax_direction_out`, 3
- * doubles per vertex (unit tangent directions, kmax = normal × kmin); `kmin_out` and
- * `kmax_out`, 1 double per vertex (signed curvatures, kmin ≤ kmax; a sphere with outward
- * normals has 1/r). Unreferenced vertices get zeros. `options` may be NULL. Returns `UVF_OK`,
- * `UVF_INVALID_ARGUMENT` (bad neighbourhood, bad pointers), `UVF_INVALID_MESH`,
- * `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
- *
- * # Safety
- * The arrays must hold the stated number of elements or be NULL.
- */
-enum UvfStatus uvf_curvature(const double *positions,
-                             size_t vertex_count,
-                             const uint32_t *triangles,
-                             size_t triangle_count,
-                             const struct UvfCurvatureOptions *options,
-                             double *kmin_direction_out,
-                             double *kmax_direction_out,
-                             double *kmin_out,
-                             double *kmax_out);
-
-/**
- * `uvf_curvature` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
- * the same options, outputs and statuses, with the handle's vertex and triangle counts.
- *
- * # Safety
- * `mesh` must be a live handle or NULL; the other pointers as for `uvf_curvature`.
- */
-enum UvfStatus uvf_mesh_curvature(const struct UvfMesh *mesh,
-                                  const struct UvfCurvatureOptions *options,
-                                  double *kmin_direction_out,
-                                  double *kmax_direction_out,
-                                  double *kmin_out,
-                                  double *kmax_out);
-
-/**
- * Fills `options` with defaults.
- *
- * # Safety
- * `options` must be NULL or point to a writable struct.
- */
-void uvf_pgp_options_default(struct UvfPgpOptions *options);
-
-/**
- * Periodic Global Parameterization (Ray, Li, Lévy, Sheffer, Alliez 2006) of a manifold mesh of
- * any genus, with or without boundary, without cutting it: principal curvature field
- * (Cohen-Steiner–Morvan), optional smoothing (§4.2, eqs. 21–22) and curl correction (§4.1,
- * eqs. 17–20), the periodic solve of (cos θ, sin θ, cos φ, sin φ) per vertex (§2.3–2.5,
- * eqs. 13–15, 24: linear solve with one vertex locked per component, then Newton on F**), and
- * the per-triangle parameterization of §3.1 (Algorithm 1).
- *
- * `corner_coords_out` receives (θ, φ) for every corner: 6 doubles per triangle, corner k of
- * triangle t at `6t + 2k`. θ and φ are in radians with period 2π (use θ/2π, φ/2π as texture
- * coordinates of a periodic texture). If `result_out` is not NULL it receives a handle with
- * the singular vertices, edges, triangles and indices (§3.2) and quality figures; free it
- * with `uvf_pgp_free`. `options` may be NULL for defaults.
- *
- * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (bad options, a field vector that is not finite or
- * normal to the surface — the message names the vertex), `UVF_INVALID_MESH`,
- * `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
- * untouched.
- *
- * # Safety
- * The arrays must hold the stated number of elements; `result_out` must be NULL or writable.
- */
-enum UvfStatus uvf_pgp(const double *positions,
-                       size_t vertex_count,
-                       const uint32_t *triangles,
-                       size_t triangle_count,
-                       const struct UvfPgpOptions *options,
-                       double *corner_coords_out,
-                       struct UvfPgp **result_out);
-
-/**
- * `uvf_pgp` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
- * the same options, outputs and statuses, with the handle's vertex and triangle counts.
- *
- * # Safety
- * `mesh` must be a live handle or NULL; the other pointers as for `uvf_pgp`.
- */
-enum UvfStatus uvf_mesh_pgp(const struct UvfMesh *mesh,
-                            const struct UvfPgpOptions *options,
-                            double *corner_coords_out,
-                            struct UvfPgp **result_out);
-
-/**
- * Counts and quality figures of a PGP result. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT`.
- *
- * # Safety
- * `pgp` must be a live handle or NULL; `info_out` writable.
- */
-enum UvfStatus uvf_pgp_info(const struct UvfPgp *pgp, struct UvfPgpInfo *info_out);
-
-/**
- * The singular vertices (`singular_vertex_count` indices, ascending). Returns `UVF_OK` or
- * `UVF_INVALID_ARGUMENT` (NULL, capacity too small; output untouched).
- *
- * # Safety
- * `pgp` must be a live handle or NULL; `vertices_out` must hold `capacity` elements.
- */
-enum UvfStatus uvf_pgp_copy_singular_vertices(const struct UvfPgp *pgp,
-                                              uint32_t *vertices_out,
-                                              size_t capacity);
-
-/**
- * The singular edges as vertex pairs a < b (`2 × singular_edge_count` entries, sorted).
- * Statuses as `uvf_pgp_copy_singular_vertices`.
- *
- * # Safety
- * `pgp` must be a live handle or NULL; `edges_out` must hold `capacity` elements.
- */
-enum UvfStatus uvf_pgp_copy_singular_edges(const struct UvfPgp *pgp,
-                                           uint32_t *edges_out,
-                                           size_t capacity);
-
-/**
- * The singular triangles (`singular_triangle_count` indices, ascending). Statuses as
- * `uvf_pgp_copy_singular_vertices`.
- *
- * # Safety
- * `pgp` must be a live handle or NULL; `triangles_out` must hold `capacity` elements.
- */
-enum UvfStatus uvf_pgp_copy_singular_triangles(const struct UvfPgp *pgp,
-                                               uint32_t *triangles_out,
-                                               size_t capacity);
-
-/**
- * The singular points: `singular_point_count` vertices with a non-zero index of the gradient
- * cross field (multiples of 1/4, summing to 2 − 2g on a closed surface), in `vertices_out` and
- * `indices_out` (each of `capacity` elements). Statuses as `uvf_pgp_copy_singular_vertices`.
- *
- * # Safety
- * `pgp` must be a live handle or NULL; both arrays must hold `capacity` elements.
- */
-enum UvfStatus uvf_pgp_copy_singular_points(const struct UvfPgp *pgp,
-                                            uint32_t *vertices_out,
-                                            double *indices_out,
-                                            size_t capacity);
-
-/**
- * The field K the periodic solve followed (after smoothing, scaled by the curl correction
- * when enabled): 3 doubles per vertex (`vertex_count` triples). Statuses as
- * `uvf_pgp_copy_singular_vertices`.
- *
- * # Safety
- * `pgp` must be a live handle or NULL; `field_out` must hold `capacity` elements.
- */
-enum UvfStatus uvf_pgp_copy_field(const struct UvfPgp *pgp, double *field_out, size_t capacity);
-
-/**
- * Releases a PGP handle (NULL is ignored).
- *
- * # Safety
- * `pgp` must come from `uvf_pgp` and not have been freed.
- */
-void uvf_pgp_free(struct UvfPgp *pgp);
-
-/**
- * Quad-dominant remesh (§5): the iso-θ and iso-φ lines at `density` lines per period (a whole
- * number ≥ 1; quad sides are about 2π / (ω · density) long) as a polygon mesh whose
- * vertices lie on the input surface; faces that are not quads are split into quads and at
- * most one triangle. Returns `UVF_OK` (a handle in `*mesh_out`, free it with
- * `uvf_quad_mesh_free`) or `UVF_INVALID_ARGUMENT` (NULL handle or output, bad density, or a
- * density whose line graph would not fit in the memory available; `*mesh_out` untouched).
- *
- * # Safety
- * `pgp` must be a live handle or NULL; `mesh_out` must be NULL or writable.
- */
-enum UvfStatus uvf_pgp_quad_mesh(const struct UvfPgp *pgp,
-                                 double density,
-                                 struct UvfQuadMesh **mesh_out);
-
-/**
- * Counts of a remesh. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
- *
- * # Safety
- * `mesh` must be a live handle or NULL; `info_out` writable.
- */
-enum UvfStatus uvf_quad_mesh_info(const struct UvfQuadMesh *mesh, struct UvfQuadMeshInfo *info_out);
-
-/**
- * Copies a remesh: `3 × vertex_count` coordinates, `face_count` face sizes and `index_count`
- * vertex indices (faces counter-clockwise seen from outside). Any output may be NULL (with
- * capacity 0) to skip it. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL handle, a capacity
- * too small; outputs untouched).
- *
- * # Safety
- * `mesh` must be a live handle or NULL; each non-NULL output must hold its capacity.
- */
-enum UvfStatus uvf_quad_mesh_copy(const struct UvfQuadMesh *mesh,
-                                  double *positions_out,
-                                  size_t positions_capacity,
-                                  uint32_t *face_sizes_out,
-                                  size_t face_sizes_capacity,
-                                  uint32_t *indices_out,
-                                  size_t indices_capacity);
-
-/**
- * Releases a remesh (NULL is ignored).
- *
- * # Safety
- * `mesh` must come from `uvf_pgp_quad_mesh` and not have been freed.
- */
-void uvf_quad_mesh_free(struct UvfQuadMesh *mesh);
 
 /**
  * Chart layout (§3.3, Algorithm 2): the chart boundaries along the iso-2kπ lines of θ and φ
@@ -3443,6 +3138,222 @@ enum UvfStatus uvf_pgp_charts_copy_charts(const struct UvfPgpCharts *charts,
 void uvf_pgp_charts_free(struct UvfPgpCharts *charts);
 
 /**
+ * Fills `options` with defaults (two rings).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_curvature_options_default(struct UvfCurvatureOptions *options);
+
+/**
+ * Principal curvatures per vertex by the normal-cycle tensor of Cohen-Steiner & Morvan 2003
+ * (the input field of Ray et al. 2006, §4.2), averaged over a neighbourhood of each vertex.
+ *
+ * Outputs (each may be NULL to skip it): `kmin_direction_out` and `kmax_direction_out`, 3
+ * doubles per vertex (unit tangent directions, kmax = normal × kmin); `kmin_out` and
+ * `kmax_out`, 1 double per vertex (signed curvatures, kmin ≤ kmax; a sphere with outward
+ * normals has 1/r). Unreferenced vertices get zeros. `options` may be NULL. Returns `UVF_OK`,
+ * `UVF_INVALID_ARGUMENT` (bad neighbourhood, bad pointers), `UVF_INVALID_MESH`,
+ * `UVF_INTERNAL_ERROR`. On failure the outputs are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements or be NULL.
+ */
+enum UvfStatus uvf_curvature(const double *positions,
+                             size_t vertex_count,
+                             const uint32_t *triangles,
+                             size_t triangle_count,
+                             const struct UvfCurvatureOptions *options,
+                             double *kmin_direction_out,
+                             double *kmax_direction_out,
+                             double *kmin_out,
+                             double *kmax_out);
+
+/**
+ * `uvf_curvature` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_curvature`.
+ */
+enum UvfStatus uvf_mesh_curvature(const struct UvfMesh *mesh,
+                                  const struct UvfCurvatureOptions *options,
+                                  double *kmin_direction_out,
+                                  double *kmax_direction_out,
+                                  double *kmin_out,
+                                  double *kmax_out);
+
+/**
+ * Quad-dominant remesh (§5): the iso-θ and iso-φ lines at `density` lines per period (a whole
+ * number ≥ 1; quad sides are about 2π / (ω · density) long) as a polygon mesh whose
+ * vertices lie on the input surface; faces that are not quads are split into quads and at
+ * most one triangle. Returns `UVF_OK` (a handle in `*mesh_out`, free it with
+ * `uvf_quad_mesh_free`) or `UVF_INVALID_ARGUMENT` (NULL handle or output, bad density, or a
+ * density whose line graph would not fit in the memory available; `*mesh_out` untouched).
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `mesh_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_pgp_quad_mesh(const struct UvfPgp *pgp,
+                                 double density,
+                                 struct UvfQuadMesh **mesh_out);
+
+/**
+ * Counts of a remesh. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL).
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; `info_out` writable.
+ */
+enum UvfStatus uvf_quad_mesh_info(const struct UvfQuadMesh *mesh, struct UvfQuadMeshInfo *info_out);
+
+/**
+ * Copies a remesh: `3 × vertex_count` coordinates, `face_count` face sizes and `index_count`
+ * vertex indices (faces counter-clockwise seen from outside). Any output may be NULL (with
+ * capacity 0) to skip it. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL handle, a capacity
+ * too small; outputs untouched).
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; each non-NULL output must hold its capacity.
+ */
+enum UvfStatus uvf_quad_mesh_copy(const struct UvfQuadMesh *mesh,
+                                  double *positions_out,
+                                  size_t positions_capacity,
+                                  uint32_t *face_sizes_out,
+                                  size_t face_sizes_capacity,
+                                  uint32_t *indices_out,
+                                  size_t indices_capacity);
+
+/**
+ * Releases a remesh (NULL is ignored).
+ *
+ * # Safety
+ * `mesh` must come from `uvf_pgp_quad_mesh` and not have been freed.
+ */
+void uvf_quad_mesh_free(struct UvfQuadMesh *mesh);
+
+/**
+ * Fills `options` with defaults.
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_pgp_options_default(struct UvfPgpOptions *options);
+
+/**
+ * Periodic Global Parameterization (Ray, Li, Lévy, Sheffer, Alliez 2006) of a manifold mesh of
+ * any genus, with or without boundary, without cutting it: principal curvature field
+ * (Cohen-Steiner–Morvan), optional smoothing (§4.2, eqs. 21–22) and curl correction (§4.1,
+ * eqs. 17–20), the periodic solve of (cos θ, sin θ, cos φ, sin φ) per vertex (§2.3–2.5,
+ * eqs. 13–15, 24: linear solve with one vertex locked per component, then Newton on F**), and
+ * the per-triangle parameterization of §3.1 (Algorithm 1).
+ *
+ * `corner_coords_out` receives (θ, φ) for every corner: 6 doubles per triangle, corner k of
+ * triangle t at `6t + 2k`. θ and φ are in radians with period 2π (use θ/2π, φ/2π as texture
+ * coordinates of a periodic texture). If `result_out` is not NULL it receives a handle with
+ * the singular vertices, edges, triangles and indices (§3.2) and quality figures; free it
+ * with `uvf_pgp_free`. `options` may be NULL for defaults.
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (bad options, a field vector that is not finite or
+ * normal to the surface — the message names the vertex), `UVF_INVALID_MESH`,
+ * `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
+ * untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `result_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_pgp(const double *positions,
+                       size_t vertex_count,
+                       const uint32_t *triangles,
+                       size_t triangle_count,
+                       const struct UvfPgpOptions *options,
+                       double *corner_coords_out,
+                       struct UvfPgp **result_out);
+
+/**
+ * `uvf_pgp` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_pgp`.
+ */
+enum UvfStatus uvf_mesh_pgp(const struct UvfMesh *mesh,
+                            const struct UvfPgpOptions *options,
+                            double *corner_coords_out,
+                            struct UvfPgp **result_out);
+
+/**
+ * Counts and quality figures of a PGP result. Returns `UVF_OK` or `UVF_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `info_out` writable.
+ */
+enum UvfStatus uvf_pgp_info(const struct UvfPgp *pgp, struct UvfPgpInfo *info_out);
+
+/**
+ * The singular vertices (`singular_vertex_count` indices, ascending). Returns `UVF_OK` or
+ * `UVF_INVALID_ARGUMENT` (NULL, capacity too small; output untouched).
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `vertices_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_pgp_copy_singular_vertices(const struct UvfPgp *pgp,
+                                              uint32_t *vertices_out,
+                                              size_t capacity);
+
+/**
+ * The singular edges as vertex pairs a < b (`2 × singular_edge_count` entries, sorted).
+ * Statuses as `uvf_pgp_copy_singular_vertices`.
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `edges_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_pgp_copy_singular_edges(const struct UvfPgp *pgp,
+                                           uint32_t *edges_out,
+                                           size_t capacity);
+
+/**
+ * The singular triangles (`singular_triangle_count` indices, ascending). Statuses as
+ * `uvf_pgp_copy_singular_vertices`.
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `triangles_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_pgp_copy_singular_triangles(const struct UvfPgp *pgp,
+                                               uint32_t *triangles_out,
+                                               size_t capacity);
+
+/**
+ * The singular points: `singular_point_count` vertices with a non-zero index of the gradient
+ * cross field (multiples of 1/4, summing to 2 − 2g on a closed surface), in `vertices_out` and
+ * `indices_out` (each of `capacity` elements). Statuses as `uvf_pgp_copy_singular_vertices`.
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; both arrays must hold `capacity` elements.
+ */
+enum UvfStatus uvf_pgp_copy_singular_points(const struct UvfPgp *pgp,
+                                            uint32_t *vertices_out,
+                                            double *indices_out,
+                                            size_t capacity);
+
+/**
+ * The field K the periodic solve followed (after smoothing, scaled by the curl correction
+ * when enabled): 3 doubles per vertex (`vertex_count` triples). Statuses as
+ * `uvf_pgp_copy_singular_vertices`.
+ *
+ * # Safety
+ * `pgp` must be a live handle or NULL; `field_out` must hold `capacity` elements.
+ */
+enum UvfStatus uvf_pgp_copy_field(const struct UvfPgp *pgp, double *field_out, size_t capacity);
+
+/**
+ * Releases a PGP handle (NULL is ignored).
+ *
+ * # Safety
+ * `pgp` must come from `uvf_pgp` and not have been freed.
+ */
+void uvf_pgp_free(struct UvfPgp *pgp);
+
+/**
  * Fills `options` with defaults (automatic grid spacing, alignment 1, rounding on, no callback).
  *
  * # Safety
@@ -3546,6 +3457,95 @@ enum UvfStatus uvf_mesh_quadcover_quad_mesh(const struct UvfMesh *mesh,
                                             double density,
                                             struct UvfQuadMesh **mesh_out,
                                             struct UvfQuadCoverReport *report_out);
+
+/**
+ * Fills `options` with defaults (200 iterations, tolerance 1e-12, no callback).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_spectral_options_default(struct UvfSpectralOptions *options);
+
+/**
+ * Spectral conformal map (Mullen, Tong, Alliez, Desbrun 2008): the free-boundary conformal map
+ * without pinned vertices, the generalized eigenvector of `L_C z = λ B z` (L_C the conformal
+ * energy, B 1 on boundary vertices) with the smallest non-trivial eigenvalue, by inverse
+ * iteration on one sparse factorization. The result is scaled to the surface area with the
+ * two boundary vertices farthest apart at (0, 0) and on the +u axis; it is invariant (up to
+ * that placement) to rigid motions and scaling of the input, and a developable mesh gets its
+ * exact development.
+ *
+ * `uv_out` receives 2 doubles per vertex (NaN for unreferenced ones); `options` and
+ * `report_out` may be NULL. A run that reaches the iteration limit without the tolerance
+ * still returns `UVF_OK` with `report_out->converged = 0`. Returns `UVF_OK`,
+ * `UVF_INVALID_ARGUMENT` (bad pointer or option), `UVF_INVALID_MESH`,
+ * `UVF_UNSUPPORTED_TOPOLOGY` (not a connected genus-0 mesh with a boundary),
+ * `UVF_NUMERICAL_FAILURE`, `UVF_CANCELLED`, `UVF_INTERNAL_ERROR`. On failure the outputs are
+ * untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `report_out` must be NULL or writable.
+ */
+enum UvfStatus uvf_spectral_conformal_map(const double *positions,
+                                          size_t vertex_count,
+                                          const uint32_t *triangles,
+                                          size_t triangle_count,
+                                          const struct UvfSpectralOptions *options,
+                                          double *uv_out,
+                                          struct UvfSpectralReport *report_out);
+
+/**
+ * `uvf_spectral_conformal_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_spectral_conformal_map`.
+ */
+enum UvfStatus uvf_mesh_spectral_conformal_map(const struct UvfMesh *mesh,
+                                               const struct UvfSpectralOptions *options,
+                                               double *uv_out,
+                                               struct UvfSpectralReport *report_out);
+
+/**
+ * Fills `options` with defaults (Tutte–gnomonic, 100 sweeps).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_sphere_options_default(struct UvfSphereOptions *options);
+
+/**
+ * Spherical parameterization of a closed genus-0 mesh (course notes §6.1): unit-sphere
+ * positions, 3 doubles per vertex in `sphere_out` (`vertex_count` triples; NaN for
+ * unreferenced vertices), and in `*flipped_out` the number of triangles with
+ * `det[p0, p1, p2] ≤ 0` (0 for `UVF_SPHERE_TUTTE_GNOMONIC` by construction). `options` may be
+ * NULL. Returns `UVF_OK`, `UVF_INVALID_ARGUMENT`, `UVF_INVALID_MESH`,
+ * `UVF_UNSUPPORTED_TOPOLOGY` (not one closed genus-0 surface), `UVF_NUMERICAL_FAILURE`,
+ * `UVF_CANCELLED` (the progress callback returned non-zero), `UVF_INTERNAL_ERROR`. On failure
+ * the outputs are untouched.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `flipped_out` must be writable.
+ */
+enum UvfStatus uvf_spherical_map(const double *positions,
+                                 size_t vertex_count,
+                                 const uint32_t *triangles,
+                                 size_t triangle_count,
+                                 const struct UvfSphereOptions *options,
+                                 double *sphere_out,
+                                 size_t *flipped_out);
+
+/**
+ * `uvf_spherical_map` on a mesh handle of `uvf_mesh_new` (validated once; polygons triangulated):
+ * the same options, outputs and statuses, with the handle's vertex and triangle counts.
+ *
+ * # Safety
+ * `mesh` must be a live handle or NULL; the other pointers as for `uvf_spherical_map`.
+ */
+enum UvfStatus uvf_mesh_spherical_map(const struct UvfMesh *mesh,
+                                      const struct UvfSphereOptions *options,
+                                      double *sphere_out,
+                                      size_t *flipped_out);
 
 /**
  * A short English description of a status code, as a static NUL-terminated string (never

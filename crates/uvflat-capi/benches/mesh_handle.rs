@@ -11,10 +11,9 @@
 use std::path::Path;
 use std::ptr;
 use std::time::Instant;
+use uvflat::barycentric::{uvf_fixed_boundary_map, uvf_mesh_fixed_boundary_map};
+use uvflat::conformal::{uvf_mesh_natural_conformal_map, uvf_natural_conformal_map};
 use uvflat::mesh_handle::{uvf_mesh_desc_default, uvf_mesh_free, uvf_mesh_new, UvfMesh, UvfMeshDesc};
-use uvflat::methods::{
-    uvf_fixed_boundary_map, uvf_mesh_fixed_boundary_map, uvf_mesh_natural_conformal_map, uvf_natural_conformal_map,
-};
 use uvflat::unwrap::{uvf_mesh_unwrap, uvf_unwrap, uvf_unwrap_free, UvfUnwrap};
 use uvflat::UvfStatus;
 

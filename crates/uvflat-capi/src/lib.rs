@@ -8,18 +8,24 @@
 
 pub mod abf;
 pub mod atlas;
+pub mod barycentric;
+pub mod boundary_editor;
+pub mod boundary_optimization;
 pub mod circle_patterns;
-pub mod closed;
 pub mod cone_placement;
+pub mod conformal;
+pub mod constraints;
+pub mod cut;
 pub mod errors;
-pub mod intrinsic;
 pub mod mesh;
 pub mod mesh_handle;
-pub mod methods;
 pub mod metrics;
+pub mod near_optimal;
 pub mod nonlinear;
 pub mod pgp;
 pub mod quadcover;
+pub mod spectral;
+pub mod sphere;
 pub mod status;
 pub mod threads;
 pub mod unwrap;

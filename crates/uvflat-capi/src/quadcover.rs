@@ -1,6 +1,6 @@
 //! C ABI of QuadCover (`methods::quadcover`).
 
-use super::pgp::UvfQuadMesh;
+use super::pgp::quad_mesh::UvfQuadMesh;
 use super::status::UvfStatus;
 use super::MeshSource;
 use super::SizedOut;

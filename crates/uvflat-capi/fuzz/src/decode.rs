@@ -26,12 +26,10 @@
 use std::ffi::CStr;
 use std::os::raw::{c_int, c_void};
 
+use uvflat::barycentric::{uvf_fixed_boundary_map, UvfFixedBoundaryOptions, UVF_BOUNDARY_GIVEN};
+use uvflat::conformal::{uvf_natural_conformal_map, UvfNaturalConformalOptions};
 use uvflat::errors::uvf_last_error_message;
 use uvflat::mesh::{uvf_boundary_loops, uvf_mesh_info, uvf_triangle_components, UvfMeshInfo};
-use uvflat::methods::{
-    uvf_fixed_boundary_map, uvf_natural_conformal_map, UvfFixedBoundaryOptions, UvfNaturalConformalOptions,
-    UVF_BOUNDARY_GIVEN,
-};
 use uvflat::metrics::{uvf_metrics, UvfMetrics};
 use uvflat::UvfStatus;
 

@@ -21,12 +21,10 @@ use std::ffi::CStr;
 use std::os::raw::{c_int, c_void};
 use uvflat_test_support::meshes;
 
+use uvflat::barycentric::{uvf_fixed_boundary_map, UvfFixedBoundaryOptions, UVF_BOUNDARY_GIVEN, UVF_WEIGHTS_INTRINSIC};
+use uvflat::conformal::{uvf_natural_conformal_map, UvfNaturalConformalOptions};
 use uvflat::errors::uvf_last_error_message;
 use uvflat::mesh::{uvf_mesh_info, UvfMeshInfo};
-use uvflat::methods::{
-    uvf_fixed_boundary_map, uvf_natural_conformal_map, UvfFixedBoundaryOptions, UvfNaturalConformalOptions,
-    UVF_BOUNDARY_GIVEN, UVF_WEIGHTS_INTRINSIC,
-};
 use uvflat::metrics::{uvf_metrics, UvfMetrics};
 use uvflat::UvfStatus::{self, *};
 

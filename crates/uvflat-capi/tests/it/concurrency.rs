@@ -3,8 +3,9 @@
 //! 8 threads sharing one mesh handle get the flat calls' results.
 
 use std::ffi::CStr;
+use uvflat::barycentric::uvf_fixed_boundary_map;
+use uvflat::conformal::uvf_natural_conformal_map;
 use uvflat::errors::uvf_last_error_message;
-use uvflat::methods::{uvf_fixed_boundary_map, uvf_natural_conformal_map};
 use uvflat::metrics::{uvf_metrics, UvfMetrics};
 use uvflat::UvfStatus;
 use uvflat_test_support::meshes;
@@ -116,8 +117,9 @@ unsafe impl Sync for Shared {}
 
 #[test]
 fn eight_threads_share_one_mesh_handle_and_get_the_flat_calls_results() {
+    use uvflat::barycentric::uvf_mesh_fixed_boundary_map;
+    use uvflat::conformal::uvf_mesh_natural_conformal_map;
     use uvflat::mesh_handle::{uvf_mesh_desc_default, uvf_mesh_free, uvf_mesh_new, UvfMesh, UvfMeshDesc};
-    use uvflat::methods::{uvf_mesh_fixed_boundary_map, uvf_mesh_natural_conformal_map};
     let (positions, triangles) = load("disk_mushroom");
     let nv = positions.len() / 3;
     // run_all: the conformal UVs, 4 metrics, the mean-value UVs.
