@@ -6,12 +6,12 @@ use std::time::Instant;
 use crate::errors::{check_density, check_outputs, usage, Failure};
 use crate::files::{load_mesh, write_quad_mesh};
 use clap::ValueEnum;
+use uvflat_core::fields::smoothing::{SmoothingOptions, Symmetry};
 use uvflat_core::io::obj::write_obj_with_corner_uv;
 use uvflat_core::io::surface_svg::{write_periodic_svg, PeriodicPicture};
 use uvflat_core::methods::pgp::charts::{chart_parameterization, ChartKind, ChartParameterization};
 use uvflat_core::methods::pgp::forced::forced_singular_triangles;
 use uvflat_core::methods::pgp::quality::quality;
-use uvflat_core::methods::pgp::smoothing::{SmoothingOptions, Symmetry};
 use uvflat_core::methods::pgp::{pgp, quad_dominant_remesh, PgpOptions};
 use uvflat_core::progress::Progress;
 
@@ -51,7 +51,7 @@ pub(crate) struct PgpArgs {
     /// P periods (2pi/omega) to each other, re-solving the field around them (not in the paper,
     /// see docs/methods/pgp.md): on coarse meshes most such pairs only add singular triangles. 0: keep
     /// the smoothed field's singularities.
-    #[arg(long = "pair-periods", default_value_t = uvflat_core::methods::pgp::pairs::DEFAULT_PAIR_PERIODS)]
+    #[arg(long = "pair-periods", default_value_t = uvflat_core::fields::pairs::DEFAULT_PAIR_PERIODS)]
     pub(crate) pair_periods: f64,
     /// Annihilate pairs of open triangles of opposite winding where the field is regular
     /// (dislocations of the wave pattern) closer than P periods, turning the phases around
@@ -65,7 +65,7 @@ pub(crate) struct PgpArgs {
     /// below 1e-6, within 3–78 iterations on the meshes measured but one: the mesh torus without
     /// curl correction reaches 100). 10 is about 3× faster with
     /// nearly the same singularities (see docs/methods/pgp.md).
-    #[arg(long = "newton-iterations", default_value_t = uvflat_core::methods::pgp::solver::PERIODIC_ITERATIONS)]
+    #[arg(long = "newton-iterations", default_value_t = uvflat_core::fields::block_newton::PERIODIC_ITERATIONS)]
     pub(crate) newton_iterations: usize,
     /// Write the quad-dominant remesh (§5: iso-lines of θ and φ, non-quads split) to this OBJ.
     #[arg(long = "quad-mesh")]

@@ -21,10 +21,11 @@
 //! sees them) and where the negative (θ, φ) triangles lie (needles, next to singular points).
 //! A measuring tool, not part of the library: it panics with a message on bad arguments.
 use std::path::Path;
-use uvflat_core::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
+use uvflat_core::fields::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
+use uvflat_core::fields::indices::face_field_indices;
+use uvflat_core::fields::smoothing::{face_directions, mean_edge_length, Symmetry};
 use uvflat_core::methods::pgp::quality::quality;
-use uvflat_core::methods::pgp::singularities::{face_field_indices, signed_area2};
-use uvflat_core::methods::pgp::smoothing::{face_directions, mean_edge_length, Symmetry};
+use uvflat_core::methods::pgp::singularities::signed_area2;
 use uvflat_core::methods::pgp::{pgp, PgpOptions};
 use uvflat_core::progress::Progress;
 use uvflat_core::TriMesh;
@@ -95,7 +96,7 @@ fn main() {
         face_field_indices(&mesh, &face_directions(&mesh, &curv.normal, &curv.kmax_direction, Symmetry::Cross), 4);
     if let Ok(mode) = std::env::var("FIELDW") {
         // Smooth here with modified anisotropy weights, then run PGP on the smoothed field.
-        use uvflat_core::methods::pgp::smoothing::{anisotropy_weights, smooth_field};
+        use uvflat_core::fields::smoothing::{anisotropy_weights, smooth_field};
         let w = anisotropy_weights(&mesh, &curv);
         let eta = 1e-2 / l;
         let target: Vec<f64> = (0..mesh.vertex_count())
@@ -121,7 +122,7 @@ fn main() {
     }
     if let Ok(fr) = std::env::var("FIELD_RINGS") {
         // The field smoothed on curvatures of FIELD_RINGS rings; normals and density from RINGS.
-        use uvflat_core::methods::pgp::smoothing::smooth_field;
+        use uvflat_core::fields::smoothing::smooth_field;
         let copts = CurvatureOptions { neighbourhood: Neighbourhood::Rings(fr.parse().unwrap()) };
         let c2 = principal_curvatures(&mesh, &copts).unwrap();
         let sopts = opts.smoothing.clone().unwrap();
@@ -249,7 +250,7 @@ fn main() {
                     mesh.points()[v as usize],
                 ));
                 n += 1.0;
-                let fnrm = uvflat_core::methods::pgp::frames::triangle_normal(&mesh, (h / 3) as usize);
+                let fnrm = uvflat_core::fields::frames::triangle_normal(&mesh, (h / 3) as usize);
                 dev = dev
                     .max(uvflat_core::geometry::dot(fnrm, r.normals[v as usize]).clamp(-1.0, 1.0).acos().to_degrees());
             }
@@ -299,7 +300,7 @@ fn main() {
     println!("  stretch: top0.1% share {:.3} ; without top1% {:.3}; auv/a3 {:.3}", top, trimmed, auv / a3);
     // Triangles around which the rotation matching of eq. 13 does not close (the field's
     // singular triangles in the periodic solve's own terms).
-    use uvflat_core::methods::pgp::frames::match_rotation;
+    use uvflat_core::fields::frames::match_rotation;
     let unclosed = (0..mesh.triangle_count())
         .filter(|&t| {
             let tri = mesh.triangles()[t].map(|v| v as usize);

@@ -37,6 +37,7 @@
 pub mod atlas;
 pub mod boundary;
 pub mod error;
+pub mod fields;
 pub mod geometry;
 pub mod io;
 pub mod mesh;

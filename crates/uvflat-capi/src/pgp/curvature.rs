@@ -4,7 +4,7 @@ use crate::status::UvfStatus;
 use crate::MeshSource;
 use crate::{borrow_slice_mut, checked_count, guard, read_options};
 use uvflat_core::error::{Error, Result};
-use uvflat_core::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
+use uvflat_core::fields::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
 
 /// Curvature neighbourhood: the triangles around the vertices at most `rings − 1` edges away.
 pub const UVF_CURVATURE_RINGS: u32 = 0;

@@ -31,10 +31,10 @@
 //! vertex), the chart of every triangle, the stretch of every chart and the utilization (fraction
 //! of the unit square covered by charts).
 
-pub mod chart;
-pub mod pack;
-pub mod raster_pack;
-pub mod split;
+pub(crate) mod chart;
+pub(crate) mod pack;
+pub(crate) mod raster_pack;
+pub(crate) mod split;
 
 use crate::error::{Error, Result};
 use crate::mesh::TriMesh;

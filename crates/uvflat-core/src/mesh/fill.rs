@@ -14,8 +14,6 @@ use crate::geometry::{cross, distance, norm, sub};
 pub struct FilledDisk {
     /// The filled mesh: the original vertices first, then one virtual vertex per hole.
     pub mesh: TriMesh,
-    /// Number of original vertices (virtual ones follow).
-    pub original_vertices: usize,
 }
 
 /// Closes every boundary loop `i` with `keep[i] == false` by a cone around a virtual vertex.
@@ -35,7 +33,7 @@ pub fn fill_holes(mesh: &TriMesh, keep: &[bool]) -> Result<FilledDisk> {
         }
     }
     let filled = TriMesh::from_checked(points, tris)?;
-    Ok(FilledDisk { mesh: filled, original_vertices: mesh.vertex_count() })
+    Ok(FilledDisk { mesh: filled })
 }
 
 fn cone_apex(points: &[[f64; 3]], lp: &[u32]) -> [f64; 3] {

@@ -6,14 +6,14 @@
 //! with an [`Error`] naming the offending element. Unreferenced vertices are allowed: they get
 //! no connectivity, and methods return NaN for their UV.
 
-pub mod connectivity;
+pub(crate) mod connectivity;
 pub mod cut;
-pub mod fill;
-pub mod intrinsic_delaunay;
+pub(crate) mod fill;
+pub(crate) mod intrinsic_delaunay;
 pub mod polygon;
-pub mod topology;
-pub mod unknowns;
-pub mod validate;
+pub(crate) mod topology;
+pub(crate) mod unknowns;
+pub(crate) mod validate;
 
 use crate::error::{Error, Result};
 use crate::geometry::{distance, TriangleGeometry};

@@ -2,7 +2,6 @@
 //! finite coordinates, repeated vertices, degenerate and duplicate triangles.
 
 use crate::error::{Error, Result};
-use crate::geometry::relative_area;
 
 /// Triangles whose area is below this fraction of their longest edge squared are degenerate.
 /// (A needle with a 1e-6 degree angle still passes; collinear points do not.)
@@ -66,17 +65,6 @@ fn check_finite(points: &[[f64; 3]], tris: &[[u32; 3]]) -> Result<()> {
 /// Whether a triangle of this relative area is degenerate (NaN counts as degenerate).
 pub fn is_degenerate(relative_area: f64) -> bool {
     relative_area.is_nan() || relative_area <= DEGENERATE_RELATIVE_AREA
-}
-
-/// Rejects triangles with (near-)zero area (the first one, in triangle order, is reported).
-pub fn check_degenerate(points: &[[f64; 3]], tris: &[[u32; 3]]) -> Result<()> {
-    let relative =
-        |tri: &[u32; 3]| relative_area(points[tri[0] as usize], points[tri[1] as usize], points[tri[2] as usize]);
-    let degenerate = crate::parallel::position_first(tris, |tri| is_degenerate(relative(tri)));
-    match degenerate {
-        Some(t) => Err(Error::DegenerateTriangle { triangle: t, relative_area: relative(&tris[t]) }),
-        None => Ok(()),
-    }
 }
 
 /// Rejects two triangles over the same three vertices (in any order). Triangles are bucketed by

@@ -105,15 +105,6 @@ impl FixedSystem {
         Ok(())
     }
 
-    /// Replaces `rhs` by `A⁻ᵀ rhs` (the adjoint solve).
-    pub fn solve_transpose_in_place(&self, rhs: &mut Mat<f64>) -> Result<()> {
-        match &self.factor {
-            Factor::Cholesky(c) => c.solve_in_place(rhs)?,
-            Factor::Lu(lu) => lu.solve_transpose_in_place(rhs)?,
-        }
-        Ok(())
-    }
-
     /// The elimination order of the factor: `order[k]` is the free unknown (row of `A`) held
     /// by row k of the permuted solves.
     pub fn elimination_order(&self) -> Vec<usize> {
@@ -175,14 +166,6 @@ impl FixedSystem {
             }
         }
         Ok(require_finite(x.iter().flatten().copied(), "fixed-boundary")?)
-    }
-
-    /// Solves for the free vertices and returns one UV per vertex of `fixed_uv` (the fixed ones
-    /// copied, unreferenced ones as given, normally NaN).
-    pub fn solve(&self, fixed_uv: &[[f64; 2]]) -> Result<Vec<[f64; 2]>> {
-        let mut x = self.rhs(fixed_uv);
-        self.solve_in_place(&mut x)?;
-        self.scatter(&x, fixed_uv)
     }
 
     /// One UV per vertex from a solution `x` of the free vertices and the fixed positions.

@@ -17,8 +17,8 @@ use meshes::{closed_meshes, load};
 use polygon_mesh::check_remesh;
 use uvflat_test_support::{meshes, polygon_mesh, surfaces};
 
+use uvflat_core::fields::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
 use uvflat_core::geometry::{cross, dot, norm, sub};
-use uvflat_core::methods::pgp::curvature::{principal_curvatures, CurvatureOptions, Neighbourhood};
 use uvflat_core::methods::pgp::forced::{
     field_quarter_index, forced_singular_triangles, has_antipodal_edge, triangle_holonomy,
 };
@@ -116,8 +116,8 @@ fn invalid_curvature_neighbourhoods_are_rejected() {
 // ---------------------------------------------------------------------------------------------
 // Field smoothing (§4.2)
 
-use uvflat_core::methods::pgp::singularities::face_field_indices;
-use uvflat_core::methods::pgp::smoothing::{face_directions, smooth_field, SmoothingOptions, Symmetry};
+use uvflat_core::fields::indices::face_field_indices;
+use uvflat_core::fields::smoothing::{face_directions, smooth_field, SmoothingOptions, Symmetry};
 use uvflat_core::progress::Progress;
 
 /// Non-zero indices (rounded to 1/k) of a per-vertex field modulo 2π/k.
@@ -270,7 +270,7 @@ fn the_solution_does_not_depend_on_which_quarter_turn_represents_the_field() {
     let c = principal_curvatures(&mesh, &CurvatureOptions::default()).unwrap();
     let turns: Vec<u8> = (0..mesh.vertex_count()).map(|v| ((v * 2654435761) >> 7) as u8 % 4).collect();
     let rotated: Vec<[f64; 3]> = (0..mesh.vertex_count())
-        .map(|v| uvflat_core::methods::pgp::frames::rotate_quarter(c.normal[v], c.kmax_direction[v], turns[v]))
+        .map(|v| uvflat_core::fields::frames::rotate_quarter(c.normal[v], c.kmax_direction[v], turns[v]))
         .collect();
     let run = |field: Vec<[f64; 3]>| {
         let options = PgpOptions { field: Some(field), smoothing: None, ..PgpOptions::default() };

@@ -170,9 +170,9 @@ fn alignment_degrees(mesh: &TriMesh, result: &QuadCoverResult) -> f64 {
     let mut total = 0.0;
     for (t, q) in result.uv.iter().enumerate() {
         let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
-        let n = uvflat_core::methods::pgp::frames::triangle_normal(mesh, t);
+        let n = uvflat_core::fields::frames::triangle_normal(mesh, t);
         let values = [q[0][0], q[1][0], q[2][0]];
-        let g = uvflat_core::methods::pgp::frames::triangle_gradient(&p, n, values);
+        let g = uvflat_core::fields::frames::triangle_gradient(&p, n, values);
         let x = result.frames[t];
         let angle = dot(cross(x, g), n).atan2(dot(x, g)).rem_euclid(std::f64::consts::FRAC_PI_2);
         total += angle.min(std::f64::consts::FRAC_PI_2 - angle).to_degrees();
@@ -408,7 +408,7 @@ fn the_map_turns_with_the_mesh_and_scales_with_the_grid() {
         .collect();
     let tris: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
     let other = TriMesh::new(&moved, &tris).expect("moved");
-    let h = 3.0 * uvflat_core::methods::pgp::smoothing::mean_edge_length(&mesh);
+    let h = 3.0 * uvflat_core::fields::smoothing::mean_edge_length(&mesh);
     let a = run(&mesh, &QuadCoverOptions { grid_spacing: Some(h), ..Default::default() });
     let b = run(&other, &QuadCoverOptions { grid_spacing: Some(k * h), ..Default::default() });
     assert_eq!(a.cones.len(), b.cones.len());

@@ -27,13 +27,13 @@
 //! `tolerance` times its value, or when no step lowers it. Results are deterministic: every
 //! parallel sum is taken in fixed chunks.
 
-pub mod arap;
-pub mod energy;
-pub mod jacobian;
-pub mod lbfgs;
-pub mod line_search;
-pub mod scaffold;
-pub mod slim;
+pub(crate) mod arap;
+pub(crate) mod energy;
+pub(crate) mod jacobian;
+pub(crate) mod lbfgs;
+pub(crate) mod line_search;
+pub(crate) mod scaffold;
+pub(crate) mod slim;
 
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, NONE};

@@ -28,7 +28,6 @@
 //! Cost: O(F + output) for the cut and the assembly, one small sparse solve per singular chart
 //! (in parallel).
 
-use super::frames::rotate_coords;
 use super::isolines::{iso_graph, IsoGraph, NodeKind};
 use super::mean_value_chart::{local_mesh, mean_value_map};
 use super::refine::{refine, RefinedMesh};
@@ -37,6 +36,7 @@ use super::split::{split_into_quads, ChartDomain};
 use super::PgpResult;
 use crate::atlas::AtlasOptions;
 use crate::error::Result;
+use crate::fields::frames::rotate_coords;
 use crate::geometry::{distance, dot, norm, sub};
 use crate::mesh::connectivity::next;
 use crate::mesh::{TriMesh, NONE};

@@ -26,8 +26,8 @@
 //!
 //! Cost: O(F) assembly and one V × V sparse Cholesky factorization.
 
-use super::frames::{match_rotation, normalized, rotate_quarter, triangle_normal, wrap_angle};
 use crate::error::Result;
+use crate::fields::frames::{match_rotation, normalized, rotate_quarter, triangle_normal, wrap_angle};
 use crate::geometry::{cross, dot, sub};
 use crate::mesh::NONE;
 use crate::TriMesh;

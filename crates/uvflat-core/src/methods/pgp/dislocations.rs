@@ -56,12 +56,12 @@
 //! interleaved runs with and without it, 2026-12-04), with the same phases.
 
 use super::extraction::{angles, corner_triangle_parameterization, triangle_parameterization};
-use super::frames::{match_rotation, rotate_coords, wrap_angle};
-use super::pairs::{dual_distances, dual_search};
 use super::periodic::{corner_frames, expected_increments, rotate_unknowns};
 use super::singularities::signed_area2;
 use super::untangle::turn_phases;
 use crate::error::Result;
+use crate::fields::frames::{match_rotation, rotate_coords, wrap_angle};
+use crate::fields::pairs::{dual_distances, dual_search};
 use crate::mesh::NONE;
 use crate::TriMesh;
 use faer::Mat;

@@ -18,8 +18,8 @@
 //! shifts (s, t) stored alongside, so that transitions between triangles (eq. 16) are exact
 //! integer data. Cost: O(F), in parallel.
 
-use super::frames::{match_rotation, rotate_quarter};
 use super::periodic::{corner_frames, expected_increments, rotate_unknowns};
+use crate::fields::frames::{match_rotation, rotate_quarter};
 use crate::geometry::cross;
 use crate::TriMesh;
 use rayon::prelude::*;

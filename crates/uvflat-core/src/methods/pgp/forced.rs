@@ -41,8 +41,8 @@
 //!
 //! Cost: O(F log F).
 
-use super::curvature::tangent_basis;
-use super::frames::{match_rotation, normalized, rotate_quarter, tangent_part, transport, wrap_angle};
+use crate::fields::curvature::tangent_basis;
+use crate::fields::frames::{match_rotation, normalized, rotate_quarter, tangent_part, transport, wrap_angle};
 use crate::geometry::{cross, dot};
 use crate::mesh::connectivity::NONE;
 use crate::TriMesh;

@@ -3,15 +3,15 @@
 //! the principal curvature directions), on meshes of any genus, with or without boundary,
 //! without cutting. One file per step:
 //!
-//! - [`curvature`]: principal directions (Cohen-Steiner & Morvan 2003 normal-cycle tensor);
-//! - [`smoothing`]: vector field smoothing modulo 2π, π or π/2 (§4.2, eqs. 21–22);
-//! - [`pairs`]: ± quarter singularities of the smoothed field closer than half a period
+//! - [`crate::fields::curvature`]: principal directions (Cohen-Steiner & Morvan 2003 normal-cycle tensor);
+//! - [`crate::fields::smoothing`]: vector field smoothing modulo 2π, π or π/2 (§4.2, eqs. 21–22);
+//! - [`crate::fields::pairs`]: ± quarter singularities of the smoothed field closer than half a period
 //!   cancelled together (not in the paper; optional, on by default);
 //! - [`curl`]: curl correction (§4.1, eqs. 17–20);
 //! - [`density`]: the field scaled up on curved features narrower than a few periods (not in
 //!   the paper; optional, on by default);
 //! - [`periodic`]: the periodic energy (§2.3–2.4, eqs. 13–15, Appendix B eq. 24);
-//! - [`solver`]: its minimization (§2.5: linear solve, then Newton on F** with the penalty);
+//! - [`crate::fields::block_newton`]: its minimization (§2.5: linear solve, then Newton on F** with the penalty);
 //! - [`dislocations`]: open triangles of opposite winding where the field is regular annihilated
 //!   in pairs, lone ones moved into a singular triangle of the field (not in the paper;
 //!   optional, on by default);
@@ -28,7 +28,7 @@
 //! - [`isolines`]: the graph of iso-lines on the surface (§3.3 Algorithm 2, and §5's density);
 //! - [`layout`]: the chart layout, chart boundaries along the iso-2kπ lines (§3.3);
 //! - [`remesh`]: the quad-dominant remesh (§5);
-//! - [`frames`]: tangent frames and rotation matching shared by the steps;
+//! - [`crate::fields::frames`]: tangent frames and rotation matching shared by the steps;
 //! - [`refine`]: the chart boundaries inserted into the triangulation (§3.3);
 //! - [`charts`]: the per-chart parameterization: charts assembled, singular ones
 //!   re-parameterized by mean-value coordinates (§3.4);
@@ -40,37 +40,32 @@
 //! untangling → singularities.
 
 pub mod charts;
-pub mod curl;
-pub mod curvature;
+pub(crate) mod curl;
 pub mod density;
 pub mod dislocations;
 pub mod extraction;
 pub mod forced;
-pub mod frames;
 pub mod isolines;
-pub mod layout;
+pub(crate) mod layout;
 mod mean_value_chart;
-pub mod pairs;
 pub mod periodic;
 pub mod quality;
-pub mod refine;
-pub mod relax;
-pub mod remesh;
+pub(crate) mod refine;
+pub(crate) mod relax;
+pub(crate) mod remesh;
 pub mod singularities;
-pub mod smoothing;
-pub mod solver;
-pub mod split;
+pub(crate) mod split;
 pub mod untangle;
 
 use crate::error::{Error, Result};
+use crate::fields::block_newton::{NewtonOptions, SolveReport};
+use crate::fields::curvature::{principal_curvatures, CurvatureOptions};
+use crate::fields::frames::{normalized, scale, tangent_part};
+use crate::fields::smoothing::{mean_edge_length, smooth_field, SmoothingOptions};
 use crate::progress::Progress;
 use crate::TriMesh;
-use curvature::{principal_curvatures, CurvatureOptions};
 use extraction::{corner_parameterization, CornerParameterization};
-use frames::{normalized, scale, tangent_part};
 use singularities::{find_singularities, Singularities};
-use smoothing::{mean_edge_length, smooth_field, SmoothingOptions};
-use solver::{NewtonOptions, SolveReport};
 
 /// Periods per chart edge used by [`default_omega`]: "we set ω to ten times the average edge
 /// length" (§2.2), read as one 2π period per ten mean edge lengths.
@@ -98,7 +93,7 @@ pub struct PgpOptions {
     pub feature_periods: f64,
     /// Singularity-pair cancellation ([`pairs`], not in the paper): ± quarter singularities of
     /// the smoothed field closer than `pair_periods` periods (2π/ω) are removed together.
-    /// Default [`pairs::DEFAULT_PAIR_PERIODS`]; 0 keeps the smoothed field's singularities.
+    /// Default [`crate::fields::pairs::DEFAULT_PAIR_PERIODS`]; 0 keeps the smoothed field's singularities.
     pub pair_periods: f64,
     /// Untangle the per-corner (θ, φ) after Algorithm 1 ([`untangle`], not in the paper):
     /// negative triangles next to singular points made positive without changing any
@@ -115,8 +110,8 @@ pub struct PgpOptions {
     /// singular triangle of the field. Default
     /// [`dislocations::DEFAULT_DISLOCATION_PERIODS`]; 0 keeps the periodic solve's phases.
     pub dislocation_periods: f64,
-    /// Periodic solve: ε (default [`solver::PERIODIC_EPSILON`] = 0.1; paper 10⁻³), gradient
-    /// tolerance (10⁻⁶), iterations ([`solver::PERIODIC_ITERATIONS`] = 100).
+    /// Periodic solve: ε (default [`crate::fields::block_newton::PERIODIC_EPSILON`] = 0.1; paper 10⁻³), gradient
+    /// tolerance (10⁻⁶), iterations ([`crate::fields::block_newton::PERIODIC_ITERATIONS`] = 100).
     pub newton: NewtonOptions,
 }
 
@@ -129,7 +124,7 @@ impl Default for PgpOptions {
             smoothing: Some(SmoothingOptions::default()),
             curl_correction: false,
             feature_periods: density::DEFAULT_FEATURE_PERIODS,
-            pair_periods: pairs::DEFAULT_PAIR_PERIODS,
+            pair_periods: crate::fields::pairs::DEFAULT_PAIR_PERIODS,
             untangle: true,
             relax: true,
             dislocation_periods: dislocations::DEFAULT_DISLOCATION_PERIODS,
@@ -164,7 +159,7 @@ pub struct PgpResult {
     /// What the phase relaxation did ([`relax`]; all zero when it was off).
     pub relaxed: relax::RelaxReport,
     /// What the singularity-pair cancellation did ([`pairs`]).
-    pub pairs: pairs::PairReport,
+    pub pairs: crate::fields::pairs::PairReport,
     /// What the dislocation-pair annihilation did ([`dislocations`]).
     pub dislocations: dislocations::DislocationReport,
 }
@@ -218,11 +213,12 @@ pub fn pgp(mesh: &TriMesh, options: &PgpOptions, progress: &mut Progress) -> Res
     };
     let pairs = if options.pair_periods > 0.0 {
         let distance = options.pair_periods * std::f64::consts::TAU / omega;
-        let (cancelled, report) = pairs::cancel_singularity_pairs(mesh, &normals, &field, distance, omega)?;
+        let (cancelled, report) =
+            crate::fields::pairs::cancel_singularity_pairs(mesh, &normals, &field, distance, omega)?;
         field = cancelled;
         report
     } else {
-        pairs::PairReport::default()
+        crate::fields::pairs::PairReport::default()
     };
     if options.curl_correction {
         let v = curl::curl_correction_scale(mesh, &normals, &field)?;

@@ -13,23 +13,23 @@
 //!   `‖U'_b − rot(δ_i) U'_a‖² + ‖V'_b − rot(δ⊥_i) V'_a‖²` (the first-order expansion of the
 //!   periodic difference of eq. 11);
 //! - the triangle energy (eq. 15) `F_T = Σ_i λ_i^T (F_T,i^θ + F_T,i^φ)` with the weights of
-//!   eq. 24, which make it the integral of eq. 8 over T (see [`super::frames::triangle_weights`]).
+//!   eq. 24, which make it the integral of eq. 8 over T (see [`crate::fields::frames::triangle_weights`]).
 //!   With an obtuse corner λ is negative and F_T can be indefinite; such forms are replaced by
-//!   their positive-semidefinite part ([`super::frames::project_semidefinite`]).
+//!   their positive-semidefinite part ([`crate::fields::frames::project_semidefinite`]).
 //!
 //! The field K may carry a per-vertex magnitude (the curl-correction scale v of §4.1); the
 //! paper's field is unit-length. F* = Σ_T F_T is minimized with one vertex per connected
 //! component locked at U = V = (1, 0), then F** = F* + ε Σ ((‖U‖² − 1)² + (‖V‖² − 1)²) by
-//! Newton ([`super::solver`]).
+//! Newton ([`crate::fields::block_newton`]).
 //!
 //! Cost: O(F) assembly, then the solver's factorizations of a 4V × 4V system, grouped in
 //! 2V blocks of one (cosine, sine) pair each (`pair_system`).
 
-use super::frames::{
+use crate::error::Result;
+use crate::fields::block_newton::{minimize, Block, BlockSystem, NewtonOptions, SolveReport};
+use crate::fields::frames::{
     add, edge_sum_form, project_semidefinite, rotate_quarter, scale, triangle_weights, EdgeList, Hermitian3,
 };
-use super::solver::{minimize, Block, BlockSystem, NewtonOptions, SolveReport};
-use crate::error::Result;
 use crate::geometry::{cross, dot, sub};
 use crate::progress::Progress;
 use crate::TriMesh;
@@ -76,7 +76,7 @@ pub fn corner_frames(
     let (k0, n0) = (field[tri[0] as usize], normals[tri[0] as usize]);
     std::array::from_fn(|c| {
         let v = tri[c] as usize;
-        let r = if c == 0 { 0 } else { super::frames::match_rotation(k0, n0, normals[v], field[v]) };
+        let r = if c == 0 { 0 } else { crate::fields::frames::match_rotation(k0, n0, normals[v], field[v]) };
         let k = rotate_quarter(normals[v], field[v], r);
         (r, k, cross(normals[v], k))
     })
@@ -319,11 +319,11 @@ mod tests {
             }
         }
         let mesh = TriMesh::new(&positions, &tris).unwrap();
-        let normals = super::super::frames::vertex_normals(&mesh);
+        let normals = crate::fields::frames::vertex_normals(&mesh);
         let field: Vec<[f64; 3]> = (0..mesh.vertex_count())
             .map(|v| {
                 let n = normals[v];
-                let k = super::super::frames::normalized(super::super::frames::tangent_part([1.0, 0.3, 0.0], n));
+                let k = crate::fields::frames::normalized(crate::fields::frames::tangent_part([1.0, 0.3, 0.0], n));
                 rotate_quarter(n, k, (v * 7 % 4) as u8)
             })
             .collect();

@@ -16,10 +16,10 @@
 //!   corners), and between ∇φ^T and K⊥, in degrees.
 
 use super::extraction::CornerParameterization;
-use super::frames::{add, normalized, scale, tangent_part, triangle_gradient, triangle_normal};
 use super::periodic::corner_frames;
 use super::singularities::Singularities;
 use crate::error::Result;
+use crate::fields::frames::{add, normalized, scale, tangent_part, triangle_gradient, triangle_normal};
 use crate::geometry::{cross, dot, norm, sub};
 use crate::TriMesh;
 

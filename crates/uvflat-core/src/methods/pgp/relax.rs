@@ -43,11 +43,11 @@
 //! Cost: O(F) assembly and one factorization of a 2V × 2V matrix.
 
 use super::extraction::CornerParameterization;
-use super::frames::rotate_coords;
 use super::periodic::{corner_frames, expected_increments};
 use super::singularities::singular_triangle_count;
 use super::untangle::{apply_move, turn_phases, untangle, UntangleReport};
 use crate::error::{Error, Result};
+use crate::fields::frames::rotate_coords;
 use crate::geometry::{cross, dot, norm, sub};
 use crate::mesh::NONE;
 use crate::TriMesh;

@@ -38,15 +38,15 @@
 //! closed mesh, and I(v) is a multiple of 1/4. The vertices with I(v) ≠ 0 are the singular
 //! points, and lie on singular elements.
 //!
-//! The index of a per-face direction field modulo 2π/k ([`face_field_indices`], for the input
-//! and smoothed fields) is the same sum with Δ_e the transported change reduced into
-//! (−π/k, π/k] (Ray, Vallet, Li, Lévy 2008).
+//! The index of a per-face direction field modulo 2π/k is the same sum with Δ_e the transported
+//! change reduced into (−π/k, π/k] ([`crate::fields::indices`]).
 //!
 //! Cost: O(F), in parallel.
 
 use super::extraction::CornerParameterization;
-use super::frames::{normalized, triangle_normal, wrap_angle};
-use crate::geometry::{cross, dot, sub};
+use crate::fields::frames::wrap_angle;
+use crate::fields::indices::{edge_angle, edge_changes, face_angles, vertex_indices};
+use crate::geometry::sub;
 use crate::mesh::NONE;
 use crate::TriMesh;
 use rayon::prelude::*;
@@ -188,34 +188,6 @@ fn singular_vertices(mesh: &TriMesh, param: &CornerParameterization) -> Vec<u32>
         .collect()
 }
 
-/// The direction angle of each triangle's vector in the triangle's frame (x = edge 0→1,
-/// y = n × x), and the frames.
-fn face_angles(mesh: &TriMesh, directions: &[[f64; 3]]) -> Vec<(f64, [f64; 3], [f64; 3])> {
-    (0..mesh.triangle_count())
-        .into_par_iter()
-        .with_min_len(4096)
-        .map(|t| {
-            let p = mesh.triangles()[t].map(|v| mesh.points()[v as usize]);
-            let n = triangle_normal(mesh, t);
-            let x = normalized(sub(p[1], p[0]));
-            let y = cross(n, x);
-            let g = directions[t];
-            (dot(g, y).atan2(dot(g, x)), x, y)
-        })
-        .collect()
-}
-
-/// `x` reduced modulo 2π/k into (−π/k, π/k].
-#[inline]
-fn wrap_symmetric(x: f64, k: u32) -> f64 {
-    let period = TAU / k as f64;
-    let mut y = x - period * (x / period).round();
-    if y <= -period / 2.0 {
-        y += period;
-    }
-    y
-}
-
 /// Index of the parameterization's frame field at every interior vertex (module comment).
 fn cross_field_indices(mesh: &TriMesh, param: &CornerParameterization) -> Vec<f64> {
     let frames = face_angles(mesh, &theta_preimages(mesh, param));
@@ -267,70 +239,10 @@ fn image_edge_angle(q: &[[f64; 2]; 3], from: usize, to: usize) -> f64 {
     (q[to][1] - q[from][1]).atan2(q[to][0] - q[from][0])
 }
 
-/// Angle of the 3D vector `e` in a triangle's frame.
-fn edge_angle(frame: &(f64, [f64; 3], [f64; 3]), e: [f64; 3]) -> f64 {
-    dot(e, frame.2).atan2(dot(e, frame.1))
-}
-
 /// The representative of the angle `x` (modulo 2π) within π of `target`. The 3D turn from an
 /// edge to the frame and the (θ, φ) turn from the edge's image to the θ axis have the same sign
 /// (a linear map keeps the order of directions), so the nearest lift is the exact one, also
 /// where both are ≈ ±π (edges along the iso-lines).
 fn lift_near(x: f64, target: f64) -> f64 {
     target + wrap_angle(x - target)
-}
-
-/// Per half-edge h with a twin g: `change_of(h, g, e)`, the change crossing from h's triangle
-/// into g's (e = head − tail of h), and its negative for g (computed once per edge).
-fn edge_changes(mesh: &TriMesh, change_of: impl Fn(usize, usize, [f64; 3]) -> f64) -> Vec<f64> {
-    let twin = &mesh.connectivity().twin;
-    let mut change = vec![0.0; twin.len()];
-    for h in 0..twin.len() {
-        let g = twin[h];
-        if g == NONE || (g as usize) < h {
-            continue;
-        }
-        let e = sub(mesh.points()[mesh.head(h as u32) as usize], mesh.points()[mesh.tail(h as u32) as usize]);
-        let d = change_of(h, g as usize, e);
-        change[h] = d;
-        change[g as usize] = -d;
-    }
-    change
-}
-
-/// Index at every interior vertex of the field of directions modulo 2π/k given per triangle
-/// (tangent vectors): `(K_v + Σ Δ_e) / 2π` as in the module comment, with Δ_e reduced modulo
-/// 2π/k. Multiples of 1/k summing to χ on a closed mesh. 0 on boundary and unreferenced
-/// vertices.
-pub fn face_field_indices(mesh: &TriMesh, directions: &[[f64; 3]], k: u32) -> Vec<f64> {
-    let frames = face_angles(mesh, directions);
-    let change = edge_changes(mesh, |h, g, e| {
-        // The direction in g's triangle minus the one of h's, carried across e by unfolding.
-        let (from, to) = (&frames[h / 3], &frames[g / 3]);
-        wrap_symmetric(to.0 - (from.0 - edge_angle(from, e) + edge_angle(to, e)), k)
-    });
-    vertex_indices(mesh, &change)
-}
-
-/// `(K_v + Σ change) / 2π` at every interior vertex over the edges crossed counter-clockwise
-/// around it.
-fn vertex_indices(mesh: &TriMesh, change: &[f64]) -> Vec<f64> {
-    let twin = &mesh.connectivity().twin;
-    let angles = mesh.corner_angles();
-    (0..mesh.vertex_count() as u32)
-        .into_par_iter()
-        .with_min_len(4096)
-        .map(|v| {
-            if !mesh.is_referenced(v) || mesh.is_boundary_vertex(v) {
-                return 0.0;
-            }
-            let mut total = TAU;
-            for h in mesh.outgoing_halfedges(v) {
-                total -= angles[(h / 3) as usize][(h % 3) as usize];
-                // Counter-clockwise around v, edge h is crossed from twin(h)'s triangle into h's.
-                total += change[twin[h as usize] as usize];
-            }
-            total / TAU
-        })
-        .collect()
 }

@@ -42,8 +42,8 @@
 //! Cost: O(valence²) per move, on the few vertices next to tangled triangles.
 
 use super::extraction::CornerParameterization;
-use super::frames::rotate_coords as rotate;
 use super::singularities::signed_area2;
+use crate::fields::frames::rotate_coords as rotate;
 use crate::geometry::{cross, dot, norm, sub};
 use crate::TriMesh;
 use std::f64::consts::PI;

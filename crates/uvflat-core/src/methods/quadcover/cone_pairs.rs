@@ -1,6 +1,6 @@
 //! Cone-pair cancellation of QuadCover's frame field (not in Kälberer, Nieser & Polthier 2007 or
 //! the course notes' ch. 8; the face-based counterpart of PGP's singularity-pair cancellation,
-//! [`crate::methods::pgp::pairs`]): a +¼ and a −¼ cone closer than a few grid cells are
+//! [`crate::fields::pairs`]): a +¼ and a −¼ cone closer than a few grid cells are
 //! removed together, and a cone closer than that to the boundary is moved onto it, with the
 //! field re-solved around them and every other cone kept.
 //!
@@ -26,7 +26,7 @@
 //! ```
 //!
 //! is v's index in quarters (the reading of
-//! [`crate::methods::pgp::singularities::face_field_indices`] times 4). Raising p_e of an edge
+//! [`crate::fields::indices::face_field_indices`] times 4). Raising p_e of an edge
 //! u → w by one moves a quarter from u to w, so raising it along a path of interior edges from
 //! a +¼ cone to a −¼ one cancels both and keeps every other index. With the integers changed
 //! by Δp the field is corrected by the least-squares angles
@@ -52,8 +52,8 @@
 
 use super::field::{angle_in, basis, centroid, interior_edges, InteriorEdge};
 use crate::error::Result;
-use crate::methods::pgp::frames::{normalized, wrap_angle};
-use crate::methods::pgp::pairs::{trial_budget, Ordered, RADIUS_STEPS};
+use crate::fields::frames::{normalized, wrap_angle};
+use crate::fields::pairs::{trial_budget, Ordered, RADIUS_STEPS};
 use crate::TriMesh;
 use faer::Mat;
 use std::cmp::Reverse;
@@ -414,9 +414,9 @@ impl Corrector {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fields::frames::triangle_normal;
+    use crate::fields::indices::face_field_indices;
     use crate::geometry::{dot, norm, sub};
-    use crate::methods::pgp::frames::triangle_normal;
-    use crate::methods::pgp::singularities::face_field_indices;
 
     /// An n × n grid of unit squares in the plane z = 0.
     fn grid(n: u32) -> TriMesh {
@@ -472,7 +472,7 @@ mod tests {
         let field: Vec<[f64; 3]> = (0..8)
             .map(|t| {
                 let n = triangle_normal(&octahedron, t);
-                normalized(sub([0.3, 0.5, 0.7], crate::methods::pgp::frames::scale(n, dot([0.3, 0.5, 0.7], n))))
+                normalized(sub([0.3, 0.5, 0.7], crate::fields::frames::scale(n, dot([0.3, 0.5, 0.7], n))))
             })
             .collect();
         assert_eq!(quarter_indices(&octahedron, &field).iter().sum::<i64>(), 8);

@@ -6,7 +6,7 @@
 //! The cut graph (through every cone, see [`crate::mesh::cut::cut_to_disk_through`]) splits
 //! into *chains*: maximal paths whose inner vertices are regular, interior and of degree 2 in
 //! the graph. Across a chain the combed frames differ by one rotation J^r (J(u, v) = (v, −u),
-//! [`crate::methods::pgp::frames::rotate_coords`]) and the parameterization by one translation
+//! [`crate::fields::frames::rotate_coords`]) and the parameterization by one translation
 //! t (the paper's gap d_i): `x_B = J^r x_A + t` for the copies A (left of the chain's
 //! direction) and B (right) of each of its vertices.
 //!

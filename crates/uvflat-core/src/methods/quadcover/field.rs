@@ -18,7 +18,7 @@
 //!   piecewise constant field, positive also on obtuse triangles);
 //! - q_f = the mean over the corners of ŵ_v e^{4iψ_v}, ψ_v the angle of the vertex's maximum
 //!   curvature direction in the triangle's plane and ŵ_v PGP's anisotropy weight
-//!   ([`crate::methods::pgp::smoothing::anisotropy_weights`]) over its mean;
+//!   ([`crate::fields::smoothing::anisotropy_weights`]) over its mean;
 //! - s = α / h², h the grid spacing: the field follows curvature directions over features
 //!   larger than about a grid cell and is smooth below (α = [`DEFAULT_ALIGNMENT`]).
 //!
@@ -27,11 +27,11 @@
 //! so does z; the caller's field is then required.
 
 use crate::error::{Error, Result};
+use crate::fields::curvature::PrincipalCurvatures;
+use crate::fields::frames::{normalized, triangle_normal};
+use crate::fields::smoothing::anisotropy_weights;
 use crate::geometry::{cross, distance, dot, norm, sub};
 use crate::mesh::NONE;
-use crate::methods::pgp::curvature::PrincipalCurvatures;
-use crate::methods::pgp::frames::{normalized, triangle_normal};
-use crate::methods::pgp::smoothing::anisotropy_weights;
 use crate::TriMesh;
 use faer::{c64, Mat};
 use uvflat_sparse::{CholeskySolver, TripletBuilder};

@@ -43,7 +43,7 @@ fn hat_gradients(mesh: &TriMesh, t: usize) -> (f64, [[f64; 3]; 3]) {
 
 /// The two target gradients of triangle t: X₀/h and (n × X₀)/h.
 fn targets(mesh: &TriMesh, frames: &[[f64; 3]], t: usize, scale: f64) -> [[f64; 3]; 2] {
-    let n = crate::methods::pgp::frames::triangle_normal(mesh, t);
+    let n = crate::fields::frames::triangle_normal(mesh, t);
     [frames[t].map(|x| x * scale), cross(n, frames[t]).map(|x| x * scale)]
 }
 

@@ -8,7 +8,7 @@
 //! X₁ = n × X₀, X₂ = −X₀, X₃ = −X₁. The matching of half-edge h (triangle f) with its twin
 //! (triangle g) is the r with θ_g ≈ θ_f + r·π/2, both angles measured from the shared edge in
 //! their own triangle's plane (unfolding the two triangles about the edge is the discrete
-//! parallel transport, the one of [`crate::methods::pgp::singularities::face_field_indices`]).
+//! parallel transport, the one of [`crate::fields::indices::face_field_indices`]).
 //!
 //! Combing: a breadth-first traversal of the triangles across uncut edges turns each frame by
 //! a multiple of π/2 so that the matching across every traversed edge becomes 0. Across every
@@ -17,9 +17,9 @@
 //! layer shifts of the enclosed vertices add up to the matchings along the loop.
 
 use crate::error::{Error, Result};
+use crate::fields::frames::{rotate_quarter, triangle_normal};
 use crate::geometry::{cross, dot, sub};
 use crate::mesh::NONE;
-use crate::methods::pgp::frames::{rotate_quarter, triangle_normal};
 use crate::TriMesh;
 use std::collections::VecDeque;
 use std::f64::consts::FRAC_PI_2;
@@ -49,7 +49,9 @@ pub fn matchings(mesh: &TriMesh, directions: &[[f64; 3]]) -> Vec<u8> {
 }
 
 /// Layer shift (eq. 8.5) at every interior vertex: the matchings of the edges crossed going
-/// once around it counter-clockwise, summed modulo 4. 0 on the boundary.
+/// once around it counter-clockwise, summed modulo 4. 0 on the boundary. (The tests check that
+/// the matchings of a smooth field shift no layer.)
+#[cfg(test)]
 pub fn layer_shifts(mesh: &TriMesh, matching: &[u8]) -> Vec<u8> {
     let twin = &mesh.connectivity().twin;
     (0..mesh.vertex_count() as u32)

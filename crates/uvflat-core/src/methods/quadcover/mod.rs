@@ -15,7 +15,7 @@
 //!   lines ... form a quadrilateral mesh").
 //!
 //! Pipeline of [`quadcover`]: frame field (the caller's per triangle, or the principal
-//! curvature directions smoothed modulo π/2 by [`crate::methods::pgp::smoothing`]) →
+//! curvature directions smoothed modulo π/2 by [`crate::fields::smoothing`]) →
 //! matchings → cones (vertices of non-zero cross-field index) → cut graph through the cones
 //! ([`crate::mesh::cut::cut_to_disk_through`]) → combing → covering → continuous solve → gaps
 //! and cone positions rounded (guarded against two cones on one grid point) → final solve,
@@ -29,20 +29,20 @@
 //! allows, and the count left is reported.
 
 pub mod cone_pairs;
-pub mod covering;
+pub(crate) mod covering;
 pub mod field;
-pub mod guards;
-pub mod integration;
-pub mod matching;
+pub(crate) mod guards;
+pub(crate) mod integration;
+pub(crate) mod matching;
 pub mod remesh;
-pub mod untangle;
+pub(crate) mod untangle;
 
 use crate::error::{Error, Result};
+use crate::fields::curvature::{principal_curvatures, CurvatureOptions};
+use crate::fields::frames::{normalized, tangent_part, triangle_normal};
+use crate::fields::indices::face_field_indices;
+use crate::fields::smoothing::mean_edge_length;
 use crate::mesh::cut::{cut_to_disk_through, EdgeCost};
-use crate::methods::pgp::curvature::{principal_curvatures, CurvatureOptions};
-use crate::methods::pgp::frames::{normalized, tangent_part, triangle_normal};
-use crate::methods::pgp::singularities::face_field_indices;
-use crate::methods::pgp::smoothing::mean_edge_length;
 use crate::metrics::signed_uv_area;
 use crate::progress::Progress;
 use crate::TriMesh;

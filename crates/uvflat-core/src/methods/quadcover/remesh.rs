@@ -21,8 +21,8 @@
 
 use super::QuadCoverResult;
 use crate::error::{Error, Result};
+use crate::fields::frames::rotate_coords;
 use crate::methods::pgp::extraction::CornerParameterization;
-use crate::methods::pgp::frames::rotate_coords;
 use crate::methods::pgp::{quad_dominant_remesh_of, PeriodicMap, PolygonMesh};
 use crate::metrics::signed_uv_area;
 use crate::TriMesh;

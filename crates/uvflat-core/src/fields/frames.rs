@@ -65,7 +65,7 @@ pub fn tangent_part(v: [f64; 3], n: [f64; 3]) -> [f64; 3] {
 }
 
 /// `P^r x` for parameter coordinates x = (θ, φ), with P(θ, φ) = (φ, −θ): the quarter turn the
-/// rotation matching applies to the unknowns ([`super::periodic::unknown_rotation`]).
+/// rotation matching applies to the unknowns ([`crate::methods::pgp::periodic::unknown_rotation`]).
 pub fn rotate_coords(r: u8, x: [f64; 2]) -> [f64; 2] {
     (0..r % 4).fold(x, |x, _| [x[1], -x[0]])
 }

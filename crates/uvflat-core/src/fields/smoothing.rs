@@ -14,7 +14,7 @@
 //!
 //! with z⁰ the input directions, w_i the anisotropy weight (below), λ the triangle
 //! weights of eq. 24 and β_e the angle from H_a to H_b (eq. 22; measured after parallel
-//! transport, see [`reference_rotation`]). It is minimized by the machinery of §2.5 ([`super::solver`]):
+//! transport, see [`reference_rotation`]). It is minimized by the machinery of §2.5 ([`super::block_newton`]):
 //! the linear solve, then Newton with the unit-norm penalty. The result is
 //! `K_i = cos α_i H_i + sin α_i (N_i × H_i)`, α_i = angle(z_i)/k.
 //!
@@ -32,13 +32,13 @@
 //!
 //! Cost: one 2V × 2V factorization per Newton iteration.
 
+use super::block_newton::{minimize, BlockSystem, NewtonOptions, SolveReport};
 use super::curvature::tangent_basis;
 use super::curvature::PrincipalCurvatures;
 use super::frames::{
     edge_sum_form, match_rotation, normalized, project_semidefinite, rotate_quarter, tangent_part, transport,
     triangle_normal, triangle_weights, EdgeList,
 };
-use super::solver::{minimize, BlockSystem, NewtonOptions, SolveReport};
 use crate::error::{Error, Result};
 use crate::geometry::{cross, dot, norm, sub};
 use crate::progress::Progress;
@@ -46,7 +46,7 @@ use crate::TriMesh;
 use faer::c64;
 
 /// Default weight ε of the unit-norm penalty of the smoothing. The paper gives no value for
-/// it (10⁻³ is its periodic solve's; ours is the same 0.1, [`super::solver::PERIODIC_EPSILON`]). Where the fitting weight is small (isotropic regions)
+/// it (10⁻³ is its periodic solve's; ours is the same 0.1, [`super::block_newton::PERIODIC_EPSILON`]). Where the fitting weight is small (isotropic regions)
 /// nothing else anchors the norms: with ε = 10⁻³ shrinking the unknowns towards zero is
 /// cheaper than making them smooth, and the field collapses to |z| ≈ 0 (its directions are
 /// then noise). With ε = 0.1 the penalty outweighs the smoothing term per vertex, |z| stays
@@ -55,7 +55,7 @@ use faer::c64;
 pub const SMOOTHING_EPSILON: f64 = 0.1;
 
 /// Default Newton iteration limit of the smoothing. Far from convergence the penalty's Hessian
-/// is indefinite near the field's singularities and the steps are damped ([`super::solver`]),
+/// is indefinite near the field's singularities and the steps are damped ([`super::block_newton`]),
 /// while the singularities settle within the first few iterations; beyond 8 iterations the field
 /// hardly changes on the meshes of `tests/data/meshes` (the periodic solve, not the smoothing,
 /// is what the paper's 10⁻⁶ tolerance is for).

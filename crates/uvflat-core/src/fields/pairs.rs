@@ -22,7 +22,7 @@
 //! ```
 //!
 //! is an integer: the index of T in quarters (on a closed mesh Σ_T q_T = −(2/π) Σ_T Ω_T, which
-//! is 4χ unless some Ω_T wrap around, see [`super::forced`]). Changing p_e by
+//! is 4χ unless some Ω_T wrap around, see [`crate::methods::pgp::forced`]). Changing p_e by
 //! ±1 moves a quarter from one triangle of e to the other, so changing it along a dual path
 //! from a +¼ triangle to a −¼ one (shortest, by distances between centroids) cancels the pair
 //! and keeps every other index. With the integers fixed, the field is the least-squares
@@ -299,7 +299,7 @@ fn pair_paths(mesh: &TriMesh, indices: &[i64], distance: f64, blocked: &HashSet<
 
 /// Dijkstra over the dual graph from triangle `source`, up to `limit`: distance per reached
 /// triangle, and each triangle's predecessor.
-pub(super) fn dual_search(mesh: &TriMesh, source: usize, limit: f64) -> (HashMap<usize, f64>, HashMap<usize, usize>) {
+pub(crate) fn dual_search(mesh: &TriMesh, source: usize, limit: f64) -> (HashMap<usize, f64>, HashMap<usize, usize>) {
     let twin = &mesh.connectivity().twin;
     let mut dist = HashMap::from([(source, 0.0)]);
     let mut parent = HashMap::new();
@@ -327,7 +327,7 @@ pub(super) fn dual_search(mesh: &TriMesh, source: usize, limit: f64) -> (HashMap
 }
 
 /// Triangles within `limit` of `source` and their dual distances.
-pub(super) fn dual_distances(mesh: &TriMesh, source: usize, limit: f64) -> Vec<(usize, f64)> {
+pub(crate) fn dual_distances(mesh: &TriMesh, source: usize, limit: f64) -> Vec<(usize, f64)> {
     dual_search(mesh, source, limit).0.into_iter().collect()
 }
 
