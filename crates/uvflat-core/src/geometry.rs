@@ -19,6 +19,13 @@ pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
+
+/// The z component of the cross product of two plane vectors (twice the signed area of the
+/// triangle they span; positive when `b` is counter-clockwise from `a`).
+#[inline]
+pub fn cross2(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
 /// Squared length.
 #[inline]
 pub fn norm2(a: [f64; 3]) -> f64 {

@@ -34,6 +34,7 @@
 //! (see `count_boundary_crossings`). About 1 s for 1.4 M triangles on one core.
 
 use crate::error::Error;
+use crate::geometry::cross2;
 
 /// A triangle is degenerate when 2·area ≤ `DEGENERACY_TOLERANCE` · (longest edge)², i.e. its
 /// height is below 1e-12 of its longest edge (scale-invariant).
@@ -699,10 +700,6 @@ fn segment_extent(s: &Segment) -> f64 {
 
 fn sub2(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [a[0] - b[0], a[1] - b[1]]
-}
-
-fn cross2(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
 }
 
 fn dot2(a: [f64; 2], b: [f64; 2]) -> f64 {

@@ -7,6 +7,7 @@
 pub mod error;
 pub mod front_assembly;
 pub mod frontal_lu;
+pub mod gmres;
 pub mod lagrange;
 mod lu_front;
 pub mod multifrontal;

@@ -105,11 +105,13 @@
 
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, NONE};
-use crate::methods::conformal::{resolve_pins, ConformalSystem, Pin};
+use crate::methods::angle_layout::{reconstruct_uv, triangle_shapes};
+use crate::methods::conformal::{resolve_pins, Pin};
 use crate::progress::Progress;
 use faer::sparse::SparseColMat;
 use faer::Mat;
 use std::f64::consts::PI;
+use uvflat_sparse::gmres::preconditioned_gmres;
 use uvflat_sparse::ordering::{nested_dissection, Adjacency};
 use uvflat_sparse::{lower_from_entries, require_finite, CholeskyPattern, LuSolver, TripletBuilder};
 
@@ -285,36 +287,6 @@ pub fn optimize_angles(mesh: &TriMesh, options: &AbfOptions, progress: &mut Prog
     let report =
         AbfReport { iterations, gradient_norm: lin.norm, converged: lin.norm <= options.tolerance, invalid_angles };
     Ok(AngleSolution { angles, report })
-}
-
-/// ABF++ §5: the uv layout whose triangles are as similar as possible (least squares, LSCM
-/// style) to the triangles with the given angles, two vertices pinned. With every triple in
-/// (0, π) and summing to π the energy of each triangle is the conformal energy of a map from a
-/// real triangle, never negative, and the system is positive semi-definite; with triples off π
-/// an obtuse corner's negative cotangent can make it indefinite (see [`triangle_shapes`]).
-pub fn reconstruct_uv(mesh: &TriMesh, angles: &[[f64; 3]], pins: [Pin; 2]) -> Result<Vec<[f64; 2]>> {
-    if angles.len() != mesh.triangle_count() {
-        return Err(Error::InvalidArgument(format!(
-            "{} angle triples for {} triangles",
-            angles.len(),
-            mesh.triangle_count()
-        )));
-    }
-    let cot: Vec<[f64; 3]> = angles.iter().map(|a| a.map(|x| x.cos() / x.sin())).collect();
-    require_finite(cot.iter().flatten().copied(), "ABF angle")?;
-    let mut system = ConformalSystem::with_cotangents(mesh, &pins, &cot)?;
-    let coords = system.unknowns.positions(mesh);
-    uvflat_sparse::CholeskySolver::new(&system.matrix, Some(&coords))?.solve_in_place(&mut system.rhs)?;
-    system.uv(mesh)
-}
-
-/// Each angle triple scaled to sum to π: the shapes of real triangles, for the layout of angles
-/// that stopped short of the triangle constraints (an iteration cut off by `max_iterations`),
-/// whose layout system could otherwise be indefinite. Converged angles are laid out as they
-/// are: scaling them moves the vertex sums the seams of cone maps depend on (circle patterns
-/// share the layout).
-pub fn triangle_shapes(angles: &[[f64; 3]]) -> Vec<[f64; 3]> {
-    angles.iter().map(|a| a.map(|x| x * PI / (a[0] + a[1] + a[2]))).collect()
 }
 
 /// The optimal angles, weights and constraint layout of one mesh.
@@ -922,79 +894,4 @@ impl<'a> AngleProblem<'a> {
         }
         y
     }
-}
-
-/// Right-preconditioned GMRES (no restarts) on `K x = b`: at most `max_inner` Krylov steps of
-/// `K P⁻¹`, stopping once ‖b − K x‖ ≤ `relative`·‖b‖ (Saad 2003, Alg. 9.5). Returns x.
-fn preconditioned_gmres(
-    apply: impl Fn(&[f64]) -> KktVector,
-    precondition: impl Fn(&[f64]) -> Result<KktVector>,
-    b: &[f64],
-    relative: f64,
-    max_inner: usize,
-) -> Result<KktVector> {
-    let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
-    let beta = dot(b, b).sqrt();
-    let n = b.len();
-    if beta == 0.0 {
-        return Ok(vec![0.0; n]);
-    }
-    let mut basis: Vec<Vec<f64>> = vec![b.iter().map(|x| x / beta).collect()];
-    let mut preconditioned: Vec<Vec<f64>> = Vec::new();
-    // Hessenberg columns rotated to upper triangular form by Givens rotations.
-    let mut r_cols: Vec<Vec<f64>> = Vec::new();
-    let mut rotations: Vec<(f64, f64)> = Vec::new();
-    let mut g = vec![beta];
-    for j in 0..max_inner {
-        let z = precondition(&basis[j])?;
-        let mut w = apply(&z);
-        preconditioned.push(z);
-        let mut h = Vec::with_capacity(j + 2);
-        for v in &basis {
-            let hij = dot(&w, v);
-            for (wk, vk) in w.iter_mut().zip(v) {
-                *wk -= hij * vk;
-            }
-            h.push(hij);
-        }
-        let norm_w = dot(&w, &w).sqrt();
-        h.push(norm_w);
-        for (i, &(cs, sn)) in rotations.iter().enumerate() {
-            let (a, b) = (h[i], h[i + 1]);
-            h[i] = cs * a + sn * b;
-            h[i + 1] = -sn * a + cs * b;
-        }
-        let (a, b) = (h[j], h[j + 1]);
-        let rho = a.hypot(b);
-        let (cs, sn) = if rho == 0.0 { (1.0, 0.0) } else { (a / rho, b / rho) };
-        h[j] = rho;
-        h[j + 1] = 0.0;
-        rotations.push((cs, sn));
-        g.push(-sn * g[j]);
-        g[j] *= cs;
-        h.truncate(j + 1);
-        r_cols.push(h);
-        let converged = g[j + 1].abs() <= relative * beta;
-        if converged || norm_w == 0.0 || j + 1 == max_inner {
-            break;
-        }
-        basis.push(w.iter().map(|x| x / norm_w).collect());
-    }
-    // Back substitution R y = g, then x = Σ y_j P⁻¹ v_j.
-    let k = r_cols.len();
-    let mut y = vec![0.0; k];
-    for i in (0..k).rev() {
-        let mut sum = g[i];
-        for j in i + 1..k {
-            sum -= r_cols[j][i] * y[j];
-        }
-        y[i] = if r_cols[i][i] != 0.0 { sum / r_cols[i][i] } else { 0.0 };
-    }
-    let mut x = vec![0.0; n];
-    for (yj, z) in y.iter().zip(&preconditioned) {
-        for (xi, zi) in x.iter_mut().zip(z) {
-            *xi += yj * zi;
-        }
-    }
-    Ok(x)
 }

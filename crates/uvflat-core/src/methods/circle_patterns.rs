@@ -47,11 +47,11 @@
 //! moves the angles of non-Delaunay edges away from their 3D values but never flips.
 //!
 //! The planar layout is the least-squares reconstruction from angles of ABF++
-//! ([`super::abf::reconstruct_uv`]), exact here because the angles are those of a planar
+//! ([`super::angle_layout::reconstruct_uv`]), exact here because the angles are those of a planar
 //! triangulation. Cost: 40–90 sparse Cholesky factorizations for the angles (order F + V), a
 //! few Newton steps on the F radii, one factorization for the layout.
 
-use super::abf::reconstruct_uv;
+use super::angle_layout::reconstruct_uv;
 use super::conformal::{resolve_pins, Pin};
 use crate::error::{Error, Result};
 use crate::mesh::connectivity::prev;

@@ -17,6 +17,7 @@
 //! Sums run over fixed chunks in a fixed order, so results do not depend on the thread count.
 //! Cost: O(edges) or O(triangles) per evaluation.
 
+use crate::geometry::cross2;
 use crate::mesh::{TriMesh, NONE};
 use rayon::prelude::*;
 use uvflat_sparse::polynomial::Polynomial;
@@ -48,11 +49,6 @@ fn sub2(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
 #[inline]
 fn dot2(a: [f64; 2], b: [f64; 2]) -> f64 {
     a[0] * b[0] + a[1] * b[1]
-}
-
-#[inline]
-fn cross2(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
 }
 
 /// Sum of `f` over chunks of `items`, chunk results added in order (deterministic).

@@ -2,6 +2,7 @@
 //! equations it implements).
 
 pub mod abf;
+pub mod angle_layout;
 pub mod barycentric;
 pub mod boundary_optimization;
 pub mod circle_patterns;

@@ -215,10 +215,10 @@ fn unconverged_angles_are_laid_out_as_triangle_shapes() {
     let scaled: Vec<[f64; 3]> =
         exact.iter().enumerate().map(|(t, a)| a.map(|x| x * (0.8 + 0.4 * ((t * 7919) % 101) as f64 / 100.0))).collect();
     let pins = uvflat_core::methods::conformal::resolve_pins(&mesh, None).expect("pins");
-    let a = uvflat_core::methods::abf::reconstruct_uv(&mesh, &exact, pins).expect("exact angles");
-    assert!(uvflat_core::methods::abf::reconstruct_uv(&mesh, &scaled, pins).is_err(), "raw scaled triples");
-    let shapes = uvflat_core::methods::abf::triangle_shapes(&scaled);
-    let b = uvflat_core::methods::abf::reconstruct_uv(&mesh, &shapes, pins).expect("scaled angles");
+    let a = uvflat_core::methods::angle_layout::reconstruct_uv(&mesh, &exact, pins).expect("exact angles");
+    assert!(uvflat_core::methods::angle_layout::reconstruct_uv(&mesh, &scaled, pins).is_err(), "raw scaled triples");
+    let shapes = uvflat_core::methods::angle_layout::triangle_shapes(&scaled);
+    let b = uvflat_core::methods::angle_layout::reconstruct_uv(&mesh, &shapes, pins).expect("scaled angles");
     let max = a.iter().zip(&b).map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1])).fold(0.0, f64::max);
     assert!(max < 1e-9 * n as f64, "layouts differ by {max}");
     let flat = distortion(mesh.points(), mesh.triangles(), &b, mesh.triangles()).expect("metrics");

@@ -32,7 +32,7 @@ use super::{CirclePatternOptions, CirclePatternReport};
 use crate::error::{Error, Result};
 use crate::mesh::cut::{cut_along, cut_to_disk_through, Cut, EdgeCost};
 use crate::mesh::{TriMesh, NONE};
-use crate::methods::abf::reconstruct_uv;
+use crate::methods::angle_layout::reconstruct_uv;
 use crate::methods::conformal::resolve_pins;
 use crate::progress::Progress;
 use std::collections::HashMap;

@@ -11,6 +11,7 @@
 //! flip-free by construction as well. A bijective (locally injective) start therefore stays
 //! locally injective, and the energy decreases monotonically.
 
+use crate::geometry::cross2;
 use rayon::prelude::*;
 
 /// Armijo sufficient-decrease constant.
@@ -19,11 +20,6 @@ const ARMIJO_C1: f64 = 1e-4;
 pub const MAX_STEP_FRACTION: f64 = 0.8;
 /// Halvings before the search gives up.
 const MAX_HALVINGS: usize = 60;
-
-#[inline]
-fn cross2(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
 
 /// Smallest positive root of `a t² + b t + c` for `c > 0`, or +∞.
 fn first_positive_root(a: f64, b: f64, c: f64) -> f64 {

@@ -18,6 +18,7 @@
 //! keeping the parameter of the N-gon boundary, so they match the neighbouring charts exactly.
 
 use super::mean_value_chart::mean_value_map;
+use crate::geometry::cross2;
 use std::collections::HashMap;
 
 /// Quads cut out of one chart.
@@ -136,10 +137,6 @@ pub fn split_into_quads(chart: &ChartDomain) -> Option<SplitQuads> {
 
 fn midpoint(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]
-}
-
-fn cross2(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
 }
 
 /// Side of `x` relative to the line from the origin through `m`, zero within rounding.

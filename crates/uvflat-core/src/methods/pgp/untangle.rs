@@ -44,6 +44,7 @@
 use super::extraction::CornerParameterization;
 use super::singularities::signed_area2;
 use crate::fields::frames::rotate_coords as rotate;
+use crate::geometry::cross2;
 use crate::geometry::{cross, dot, norm, sub};
 use crate::TriMesh;
 use std::f64::consts::PI;
@@ -150,10 +151,6 @@ fn rotate_back(r: u8, d: [f64; 2]) -> [f64; 2] {
 /// Corners (t, k) at vertex v.
 fn corners_at(mesh: &TriMesh, v: u32) -> impl Iterator<Item = (usize, usize)> + '_ {
     mesh.outgoing_halfedges(v).map(|h| ((h / 3) as usize, (h % 3) as usize))
-}
-
-fn cross2(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
 }
 
 /// Half-plane `g · Δ ≥ h` in the move Δ of corner (t, k)'s vertex that keeps triangle t's
