@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 import uvflat
-from uvflat import _api, _errors, _library
+from uvflat import _common, _errors, _library
 from conftest import (
     HEADER,
     REPO,
@@ -720,7 +720,7 @@ def test_every_status_maps_to_its_exception_class():
     status = _library.library().uvf_mesh_info(None, 0, None, 0, ctypes.byref(_library.UvfMeshInfo()))
     assert status == uvflat.Status.INVALID_MESH
     with pytest.raises(uvflat.InvalidMesh, match="^the mesh has no triangles$"):
-        _api._check(status)
+        _common._check(status)
 
 
 # --- unreferenced vertices --------------------------------------------------------------------
@@ -804,10 +804,10 @@ def test_an_exception_in_the_callback_cancels_and_is_reraised(function):
 
 def test_canonical_inputs_are_passed_without_a_copy():
     p, t = canonical("disk_cat_head.obj")
-    assert _api._as_points(p, 3, "positions") is p
-    assert _api._as_indices(t, "triangles", uvflat.InvalidMesh) is t
+    assert _common._as_points(p, 3, "positions") is p
+    assert _common._as_indices(t, "triangles", uvflat.InvalidMesh) is t
     uv = uvflat.natural_conformal_map(p, t)
-    assert _api._as_points(uv, 2, "uv") is uv
+    assert _common._as_points(uv, 2, "uv") is uv
 
 
 def test_converted_inputs_give_the_same_results():
@@ -1738,10 +1738,10 @@ def test_iteration_limits_beyond_32_bits_are_refused_not_wrapped():
 def test_a_cancellation_the_callback_did_not_ask_for_is_an_interrupt():
     # Ctrl-C raised as the callback is entered, before its `try`, is swallowed by ctypes and
     # ends the call as cancelled; the bridge tells that apart from a real cancellation.
-    bridge = _api._ProgressBridge(lambda fraction: True)
+    bridge = _common._ProgressBridge(lambda fraction: True)
     with pytest.raises(KeyboardInterrupt):
         bridge.run(lambda: int(_errors.Status.CANCELLED))
-    declining = _api._ProgressBridge(lambda fraction: False)
+    declining = _common._ProgressBridge(lambda fraction: False)
     assert declining._call(None, 0.5) == 1
     with pytest.raises(uvflat.Cancelled):
         declining.run(lambda: int(_errors.Status.CANCELLED))
@@ -1750,7 +1750,7 @@ def test_a_cancellation_the_callback_did_not_ask_for_is_an_interrupt():
 def test_empty_index_lists_are_empty_and_float_pin_vertices_are_refused():
     p, t = load_mesh("disk_nefertiti_small.obj")
     # An empty list is an empty index array, not "floats".
-    assert _api._as_indices([], "corners", uvflat.InvalidArgument, None).shape == (0,)
+    assert _common._as_indices([], "corners", uvflat.InvalidArgument, None).shape == (0,)
     with pytest.raises(uvflat.InvalidArgument, match="pins"):
         uvflat.natural_conformal_map(p, t, pins=((0.9, (0.0, 0.0)), (5.7, (1.0, 0.0))))
     with pytest.raises(uvflat.InvalidArgument, match="pins"):

@@ -24,62 +24,84 @@ thread. Progress callbacks run with the GIL held, in the calling thread.
 """
 
 from ._mesh import Mesh
-from ._api import (
+from ._common import (
+    abi_version,
+    set_thread_count,
+    thread_count,
+    version,
+)
+from ._queries import (
     LayoutCheck,
     check_layout,
-    Unwrapped,
-    UnwrapReport,
-    unwrap,
-    BoundaryEditor,
+    MeshInfo,
+    Metrics,
+    boundary_loops,
+    mesh_info,
+    metrics,
+    triangle_components,
+)
+from ._barycentric import (
+    authalic,
+    conformal,
+    fixed_boundary_map,
+    floater,
+    intrinsic,
+    mean_value,
+    tutte,
+)
+from ._conformal import (
+    pinned_natural_conformal_map,
+    lscm,
+    natural_conformal_map,
+)
+from ._nonlinear import (
     AbfReport,
-    Curvatures,
-    Atlas,
-    atlas,
+    NonlinearReport,
+    abf,
+    nonlinear_map,
+)
+from ._intrinsic_tools import (
+    BoundaryEditor,
     BoundaryOptimizationReport,
     IntrinsicOptimalReport,
     SpectralReport,
     boundary_optimized_map,
     intrinsic_optimal_map,
     spectral_conformal_map,
+)
+from ._circle_patterns import (
     circle_pattern_map,
     circle_pattern_cone_map,
     ConePlacement,
     place_cones,
     polygon_boundary_curvature,
     CirclePatternReport,
+)
+from ._quadcover import (
     QuadCoverReport,
     quadcover,
     quadcover_quad_mesh,
+)
+from ._closed import (
     Cut,
+    cut_to_disk,
+    spherical_map,
+)
+from ._pgp import (
+    Curvatures,
     PgpCharts,
     PgpResult,
     curvature,
     pgp,
-    MeshInfo,
-    NonlinearReport,
-    abf,
-    cut_to_disk,
-    nonlinear_map,
-    pinned_natural_conformal_map,
-    spherical_map,
-    Metrics,
-    abi_version,
-    set_thread_count,
-    thread_count,
-    authalic,
-    boundary_loops,
-    conformal,
-    fixed_boundary_map,
-    floater,
-    intrinsic,
-    lscm,
-    mean_value,
-    mesh_info,
-    metrics,
-    natural_conformal_map,
-    triangle_components,
-    tutte,
-    version,
+)
+from ._atlas import (
+    Atlas,
+    atlas,
+)
+from ._unwrap import (
+    Unwrapped,
+    UnwrapReport,
+    unwrap,
 )
 from ._errors import (
     Cancelled,

@@ -3,7 +3,7 @@
 Everything here follows the header line by line: the structs are ``ctypes.Structure``
 subclasses with the header's fields in the header's order, and every ``uvf_*`` function gets
 its ``argtypes`` and ``restype`` when the library is loaded. Nothing here converts arrays or
-raises per-call errors; that is :mod:`uvflat._api`'s job.
+raises per-call errors; that is the method modules (:mod:`uvflat._common` and its siblings)'s job.
 
 Where the library comes from, in this order:
 

@@ -21,7 +21,7 @@ from ._errors import InvalidArgument
 
 
 def _check(status: int) -> None:
-    from ._api import _check as check  # the one error translation of the binding
+    from ._common import _check as check  # the one error translation of the binding
 
     check(status)
 
