@@ -50,7 +50,11 @@ fi
 profile=${UVFLAT_CARGO_PROFILE:-release}
 profile_dir=$profile
 [ "$profile" = dev ] && profile_dir=debug
-cargo build --profile "$profile" --locked -p uvflat-capi -p uvflat-cli
+# --tests: with the test targets, the dev-dependencies take part in feature resolution as they
+# do in the test command's `cargo test`, so the library built there is reused instead of rebuilt
+# (cbindgen, a dev-dependency, turns on bitflags' `std` through tempfile, and bitflags sits under
+# faer through raw-cpuid and gemm: without --tests the whole numeric stack is compiled twice).
+cargo build --profile "$profile" --locked -p uvflat-capi -p uvflat-cli --lib --bins --tests
 export UVFLAT_LIBRARY="$PWD/$target/$profile_dir/libuvflat.so"
 [[ "$target" = /* ]] && UVFLAT_LIBRARY="$target/$profile_dir/libuvflat.so"
 export UVFLAT_CLI="${UVFLAT_LIBRARY%/*}/uvflat"
