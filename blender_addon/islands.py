@@ -1,4 +1,5 @@
-"""Splitting a face selection into UV islands and laying islands out; numpy only, no bpy.
+"""Splitting a face selection into UV islands (by the library) and laying islands out; numpy and
+the uvflat binding only, no bpy.
 
 Everything here works on flat arrays read from a Blender mesh with ``foreach_get``:
 
@@ -25,7 +26,7 @@ loop in that "same UV" relation, which is exactly what Blender's own unwrap does
 from __future__ import annotations
 
 import dataclasses
-from typing import List, Optional, Sequence, Tuple
+from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -88,6 +89,7 @@ class Split:
 
 
 def split_islands(
+    uvflat: Any,
     positions: np.ndarray,
     loop_vert: np.ndarray,
     loop_edge: np.ndarray,
@@ -98,83 +100,58 @@ def split_islands(
     tri_loops: np.ndarray,
     tri_poly: np.ndarray,
 ) -> Split:
-    """Splits the selected polygons into islands (see the module docstring)."""
+    """Splits the selected polygons into islands (the library's ``uvflat.polygon_islands``,
+    see the module docstring), then gathers each island's vertices, loops and triangles."""
     n_loops = len(loop_vert)
     n_polys = len(poly_start)
-    n_edges = len(edge_seam)
     loop_vert = np.asarray(loop_vert, dtype=np.int64)
-    loop_edge = np.asarray(loop_edge, dtype=np.int64)
     poly_start = np.asarray(poly_start, dtype=np.int64)
     poly_total = np.asarray(poly_total, dtype=np.int64)
-    face_selected = np.asarray(face_selected, dtype=bool)
-
-    loop_poly = np.repeat(np.arange(n_polys, dtype=np.int64), poly_total)
-    if len(loop_poly) != n_loops or (n_polys and not np.array_equal(poly_start, np.cumsum(poly_total) - poly_total)):
+    if (n_polys and not np.array_equal(poly_start, np.cumsum(poly_total) - poly_total)) or int(poly_total.sum()) != n_loops:
         # Blender always stores a polygon's loops contiguously in polygon order.
         raise ValueError("polygon loops are not contiguous in polygon order")
     loop_next = np.arange(1, n_loops + 1, dtype=np.int64)
     if n_polys:
         loop_next[poly_start + poly_total - 1] = poly_start
-
-    selected_loop = face_selected[loop_poly]
-    uses = np.bincount(loop_edge, minlength=n_edges)
-    selected_uses = np.bincount(loop_edge[selected_loop], minlength=n_edges)
-    candidate = (uses == 2) & (selected_uses == 2) & ~np.asarray(edge_seam, dtype=bool)
-
-    # The two loops of every candidate edge, paired by sorting on the edge.
-    shared = np.flatnonzero(selected_loop & candidate[loop_edge])
-    shared = shared[np.argsort(loop_edge[shared], kind="stable")].reshape(-1, 2)
-    l1, l2 = shared[:, 0], shared[:, 1]
-    opposite = (loop_vert[l1] == loop_vert[loop_next[l2]]) & (loop_poly[l1] != loop_poly[l2])
-    non_manifold = int(((uses > 2) & (selected_uses > 0)).sum())
-    misoriented = int((~opposite & (loop_poly[l1] != loop_poly[l2])).sum())
-    l1, l2 = l1[opposite], l2[opposite]
-
-    # Loops around one vertex join across inner edges; polygons join across inner edges.
-    corner = connected_components(
-        n_loops, np.concatenate([l1, loop_next[l1]]), np.concatenate([loop_next[l2], l2])
+    found = uvflat.polygon_islands(
+        loop_vert,
+        poly_total,
+        vertex_count=len(positions),
+        selected=face_selected,
+        seams=np.asarray(edge_seam, dtype=bool)[np.asarray(loop_edge, dtype=np.int64)],
     )
-    poly_root = connected_components(n_polys, loop_poly[l1], loop_poly[l2])
+    n_islands = found.islands
+    poly_island = found.face_island.astype(np.int64)
+    poly_island[found.face_island == uvflat.NOT_IN_AN_ISLAND] = -1
+    corner = found.corner_vertex.astype(np.int64)
 
-    selected_polys = np.flatnonzero(face_selected)
-    _, island_of_poly = np.unique(poly_root[selected_polys], return_inverse=True)
-    island_of_poly = island_of_poly.reshape(-1)
-    n_islands = int(island_of_poly.max()) + 1 if len(selected_polys) else 0
-
-    poly_island = np.full(n_polys, -1, dtype=np.int64)
-    poly_island[selected_polys] = island_of_poly
     tri_loops = np.asarray(tri_loops, dtype=np.int64).reshape(-1, 3)
-    tri_poly = np.asarray(tri_poly, dtype=np.int64)
-    tri_island = poly_island[tri_poly]
+    tri_island = poly_island[np.asarray(tri_poly, dtype=np.int64)]
     keep = tri_island >= 0
     tri_loops, tri_island = tri_loops[keep], tri_island[keep]
     tri_order = np.argsort(tri_island, kind="stable")
     tri_bounds = np.searchsorted(tri_island[tri_order], np.arange(n_islands + 1))
 
-    island_loops = np.flatnonzero(selected_loop)
+    loop_poly = np.repeat(np.arange(n_polys, dtype=np.int64), poly_total)
+    island_loops = np.flatnonzero(poly_island[loop_poly] >= 0)
     loop_island = poly_island[loop_poly[island_loops]]
     loop_order = np.argsort(loop_island, kind="stable")
-    island_loops = island_loops[loop_order]
-    loop_island = loop_island[loop_order]
+    island_loops, loop_island = island_loops[loop_order], loop_island[loop_order]
     loop_bounds = np.searchsorted(loop_island, np.arange(n_islands + 1))
 
-    # Island vertices, all islands at once: a corner class (its root, the smallest loop) lies
-    # in one island, and each island numbers its classes in increasing root order.
-    roots = np.unique(corner[island_loops])
-    vertex_island = poly_island[loop_poly[roots]]
-    by_island = np.argsort(vertex_island, kind="stable")
-    roots, vertex_island = roots[by_island], vertex_island[by_island]
+    # Island vertices are numbered island by island: each island's are one range.
+    vertex_island = np.empty(found.island_vertices, dtype=np.int64)
+    vertex_island[corner[island_loops]] = loop_island
     vertex_bounds = np.searchsorted(vertex_island, np.arange(n_islands + 1))
-    vertex_of_root = np.full(n_loops, -1, dtype=np.int64)
-    vertex_of_root[roots] = np.arange(len(roots)) - vertex_bounds[vertex_island]
-    all_positions = np.ascontiguousarray(positions[loop_vert[roots]], dtype=np.float64)
-    loop_vertex = vertex_of_root[corner[island_loops]]
+    vertex_loop = np.empty(found.island_vertices, dtype=np.int64)
+    vertex_loop[corner[island_loops]] = island_loops
+    all_positions = np.ascontiguousarray(positions[loop_vert[vertex_loop]], dtype=np.float64)
     tris = tri_loops[tri_order]
-    local = vertex_of_root[corner[tris]].astype(np.uint32)
     diagonals = _diagonals(tris, loop_next)
 
-    poly_order = selected_polys[np.argsort(island_of_poly, kind="stable")]
-    poly_bounds = np.searchsorted(np.sort(island_of_poly), np.arange(n_islands + 1))
+    selected_polys = np.flatnonzero(poly_island >= 0)
+    poly_order = selected_polys[np.argsort(poly_island[selected_polys], kind="stable")]
+    poly_bounds = np.searchsorted(poly_island[poly_order], np.arange(n_islands + 1))
 
     islands = []
     for i in range(n_islands):
@@ -183,10 +160,10 @@ def split_islands(
         islands.append(
             Island(
                 positions=all_positions[vertex_bounds[i] : vertex_bounds[i + 1]],
-                triangles=local[tri],
+                triangles=(corner[tris[tri]] - vertex_bounds[i]).astype(np.uint32),
                 polys=poly_order[poly_bounds[i] : poly_bounds[i + 1]],
                 loops=island_loops[loops],
-                loop_vertex=loop_vertex[loops],
+                loop_vertex=corner[island_loops[loops]] - vertex_bounds[i],
                 triangle_loops=tris[tri],
                 triangle_diagonals=diagonals[tri],
             )
@@ -194,8 +171,8 @@ def split_islands(
     return Split(
         islands=islands,
         selected_polys=len(selected_polys),
-        non_manifold_edges=non_manifold,
-        misoriented_edges=misoriented,
+        non_manifold_edges=found.non_manifold_edges,
+        misoriented_edges=found.misoriented_edges,
     )
 
 

@@ -4,7 +4,7 @@ Steps (all objects of a multi-object Edit Mode together):
 
 1. switch to Object Mode for a moment, so the meshes can be read and written with
    ``foreach_get``/``foreach_set`` (numpy speed instead of per-loop Python);
-2. split each mesh's selected faces into islands (``islands.split_islands``: seams, the selection
+2. split each mesh's selected faces into islands (the library's ``uvflat.polygon_islands``: seams, the selection
    border, non-manifold and inconsistently oriented edges cut), triangulated with Blender's own
    tessellation (``mesh.loop_triangles``), so n-gons, concave ones too, are solved as triangles
    and written back per loop;
@@ -227,6 +227,7 @@ class UnwrapRun:
         relative = isl.relative_areas(positions, loop_vertex[tri_loops].reshape(-1, 3))
         self.has_degenerate.append(bool((relative <= isl.DEGENERATE_RELATIVE_AREA).any()))
         split = isl.split_islands(
+            self.uvflat,
             positions,
             loop_vertex,
             loop_edge,

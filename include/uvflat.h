@@ -147,6 +147,12 @@
 #define UVF_CUT_COST_GIVEN 2
 
 /**
+ * `uvf_polygon_islands`: the island of a face that is not selected, and the island vertex of
+ * its corners.
+ */
+#define UVF_NOT_IN_AN_ISLAND UINT32_MAX
+
+/**
  * `UvfMeshDesc.position_type`: 64-bit `double` coordinates.
  */
 #define UVF_SCALAR_DOUBLE 0
@@ -973,6 +979,34 @@ typedef struct UvfCutInfo {
    */
   double total_edge_length;
 } UvfCutInfo;
+
+/**
+ * What `uvf_polygon_islands` found. The caller sets `struct_size`; the library writes only the
+ * fields that fit in that many bytes.
+ */
+typedef struct UvfPolygonIslandsInfo {
+  /**
+   * `sizeof(UvfPolygonIslandsInfo)`, set by the caller.
+   */
+  size_t struct_size;
+  /**
+   * Number of islands.
+   */
+  size_t islands;
+  /**
+   * Number of island vertices (UVs), all islands together.
+   */
+  size_t island_vertices;
+  /**
+   * Edges of selected faces used by more than two corners (cut: non-manifold).
+   */
+  size_t non_manifold_edges;
+  /**
+   * Edges between two selected faces that traverse it in the same direction (cut: the faces'
+   * orientations disagree).
+   */
+  size_t misoriented_edges;
+} UvfPolygonIslandsInfo;
 
 /**
  * Counts and topological invariants of a mesh.
@@ -2701,6 +2735,50 @@ uint32_t uvf_version_number(void);
  * ABI version of the loaded library; compare with `UVF_ABI_VERSION` from the header.
  */
 uint32_t uvf_abi_version(void);
+
+/**
+ * Splits the selected faces of a polygon mesh into UV islands, the first step of an
+ * interactive unwrap (what Blender's Unwrap does with seams and a face selection).
+ *
+ * Faces: `corner_vertices` holds the vertex of every face corner, face after face, each face's
+ * corners counter-clockwise; `face_sizes` the corner count of each of `face_count` faces
+ * (NULL: every face is a triangle). `face_selected` (NULL: all) has one flag per face, non-zero
+ * for the faces to lay out; `corner_seams` (NULL: none) one flag per corner, non-zero when the
+ * edge from that corner to the next corner of its face is a seam.
+ *
+ * Two selected faces are in one island when they are joined through edges that are used by
+ * exactly two corners of the whole mesh (both in selected faces, traversing the edge in
+ * opposite directions) and are not seams; every other edge cuts: seams, the selection border,
+ * non-manifold edges, edges between faces of opposite orientation (these two are counted in
+ * the info). Corners of one vertex are joined across those edges only, so a seam that ends
+ * inside an island slits it open, and each corner gets the island vertex (one UV) it shares
+ * with the corners around it.
+ *
+ * Outputs: `face_island_out` (`face_count` entries) the island of each face,
+ * `UVF_NOT_IN_AN_ISLAND` where not selected; islands are numbered in order of their lowest
+ * face. `corner_vertex_out` (`corner_count` entries) the island vertex of each corner,
+ * `UVF_NOT_IN_AN_ISLAND` for corners of unselected faces; island vertices are numbered island
+ * by island (all of island 0's, then island 1's, …), so each island's are one contiguous range.
+ * `info_out->struct_size` must be set.
+ *
+ * Returns `UVF_OK` or `UVF_INVALID_ARGUMENT` (NULL or mis-sized array, a vertex index ≥
+ * `vertex_count`, a face of fewer than 3 corners, face sizes not adding up to `corner_count`);
+ * the outputs are untouched on failure. Cost: O(c log c) for c corners.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `info_out` must point to a
+ * `UvfPolygonIslandsInfo` with its `struct_size` set.
+ */
+enum UvfStatus uvf_polygon_islands(const uint32_t *corner_vertices,
+                                   size_t corner_count,
+                                   size_t vertex_count,
+                                   const uint32_t *face_sizes,
+                                   size_t face_count,
+                                   const uint8_t *face_selected,
+                                   const uint8_t *corner_seams,
+                                   uint32_t *face_island_out,
+                                   uint32_t *corner_vertex_out,
+                                   struct UvfPolygonIslandsInfo *info_out);
 
 /**
  * Validates a mesh and reports its topology.

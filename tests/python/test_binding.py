@@ -175,6 +175,7 @@ C_TYPES = {
     "double *": ctypes.POINTER(ctypes.c_double),
     "const uint32_t *": ctypes.POINTER(ctypes.c_uint32),
     "uint32_t *": ctypes.POINTER(ctypes.c_uint32),
+    "const uint8_t *": ctypes.POINTER(ctypes.c_uint8),
     "size_t": ctypes.c_size_t,
     "double": ctypes.c_double,
     "uint32_t": ctypes.c_uint32,
@@ -210,7 +211,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 127, sorted(functions)
+    assert len(functions) == 128, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -235,6 +236,7 @@ def test_constants_and_status_codes_match_the_header():
 
 STRUCTS = {
     "UvfMeshInfo": _library.UvfMeshInfo,
+    "UvfPolygonIslandsInfo": _library.UvfPolygonIslandsInfo,
     "UvfFixedBoundaryOptions": _library.UvfFixedBoundaryOptions,
     "UvfNaturalConformalOptions": _library.UvfNaturalConformalOptions,
     "UvfMetrics": _library.UvfMetrics,
@@ -461,6 +463,88 @@ def test_boundary_loops_follow_boundary_edges_counter_clockwise(name):
         for a, b in zip(lp, np.roll(lp, -1)):
             walked.add((int(a), int(b)))
     assert walked == boundary  # every boundary edge once, in the triangles' direction
+
+
+def _reference_polygon_islands(corners, sizes, selected, seams):
+    """Islands and island vertices written out plainly (dicts and a union-find in Python), to
+    check ``uvflat.polygon_islands`` against: faces join across edges used twice in the whole
+    mesh, both selected, opposite directions, no seam; corners join across the same edges."""
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    face_of, next_of = {}, {}
+    for f, (a, n) in enumerate(zip(starts, sizes)):
+        for k in range(n):
+            face_of[a + k] = f
+            next_of[a + k] = a + (k + 1) % n
+    parent = {}
+
+    def find(x):
+        while parent.setdefault(x, x) != x:
+            x = parent[x]
+        return x
+
+    def join(x, y):
+        rx, ry = find(x), find(y)
+        if rx != ry:
+            parent[rx] = ry
+
+    uses = {}
+    for c in range(len(corners)):
+        uses.setdefault(frozenset((corners[c], corners[next_of[c]])), []).append(c)
+    for cs in uses.values():
+        if len(cs) != 2:
+            continue
+        c, d = cs
+        if not (selected[face_of[c]] and selected[face_of[d]]) or seams[c] or seams[d] or face_of[c] == face_of[d]:
+            continue
+        if corners[c] == corners[d]:
+            continue
+        join(("f", face_of[c]), ("f", face_of[d]))
+        join(("c", c), ("c", next_of[d]))
+        join(("c", next_of[c]), ("c", d))
+    face_class = [find(("f", f)) if selected[f] else None for f in range(len(sizes))]
+    corner_class = [find(("c", c)) if selected[face_of[c]] else None for c in range(len(corners))]
+    return face_class, corner_class
+
+
+def test_polygon_islands_match_a_plain_reference_on_a_real_mesh_with_random_seams():
+    _, t = load_mesh("disk_cat_head.obj")
+    rng = np.random.default_rng(7)
+    corners = t.reshape(-1)
+    sizes = np.full(len(t), 3)
+    selected = rng.random(len(t)) < 0.8
+    seams = rng.random(len(corners)) < 0.08
+    found = uvflat.polygon_islands(corners, sizes, selected=selected, seams=seams)
+    face_class, corner_class = _reference_polygon_islands(corners, sizes, selected, seams)
+    assert found.islands == len({c for c in face_class if c is not None}) > 1
+    assert found.island_vertices == len({c for c in corner_class if c is not None})
+    # The same partitions, and the documented numbering: islands by lowest face, island
+    # vertices island by island.
+    assert (found.face_island[~selected] == uvflat.NOT_IN_AN_ISLAND).all()
+    by_class = {}
+    for f in np.flatnonzero(selected):
+        assert by_class.setdefault(face_class[f], found.face_island[f]) == found.face_island[f]
+    first_faces = [np.flatnonzero(found.face_island == i)[0] for i in range(found.islands)]
+    assert first_faces == sorted(first_faces)
+    vertex_of = {}
+    for c, cls in enumerate(corner_class):
+        if cls is None:
+            assert found.corner_vertex[c] == uvflat.NOT_IN_AN_ISLAND
+            continue
+        assert vertex_of.setdefault(cls, found.corner_vertex[c]) == found.corner_vertex[c]
+    assert len(set(vertex_of.values())) == len(vertex_of)
+    island_of_vertex = np.empty(found.island_vertices, dtype=np.int64)
+    used = np.flatnonzero(found.corner_vertex != uvflat.NOT_IN_AN_ISLAND)
+    island_of_vertex[found.corner_vertex[used]] = found.face_island[used // 3]
+    assert (np.diff(island_of_vertex) >= 0).all()
+
+
+def test_polygon_islands_refuse_bad_input():
+    with pytest.raises(uvflat.InvalidArgument, match="vertices"):
+        uvflat.polygon_islands([0, 1, 2, 3], [4], vertex_count=3)
+    with pytest.raises(uvflat.InvalidArgument, match="add up"):
+        uvflat.polygon_islands([0, 1, 2, 3], [3])
+    with pytest.raises(uvflat.InvalidArgument, match="flags"):
+        uvflat.polygon_islands([0, 1, 2], None, seams=[True])
 
 
 def test_triangle_components_label_each_connected_part():

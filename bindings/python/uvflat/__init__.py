@@ -38,6 +38,9 @@ from ._queries import (
     boundary_loops,
     mesh_info,
     metrics,
+    NOT_IN_AN_ISLAND,
+    PolygonIslands,
+    polygon_islands,
     triangle_components,
 )
 from ._barycentric import (
@@ -298,6 +301,9 @@ __all__ = [
     "metrics",
     "natural_conformal_map",
     "triangle_components",
+    "NOT_IN_AN_ISLAND",
+    "PolygonIslands",
+    "polygon_islands",
     "tutte",
     "version",
 ]

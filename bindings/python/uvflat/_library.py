@@ -36,6 +36,7 @@ from ctypes import (
     c_int32,
     c_int64,
     c_size_t,
+    c_uint8,
     c_uint32,
     c_uint64,
     c_void_p,
@@ -147,6 +148,18 @@ class UvfMeshInfo(_Written):
         ("boundary_vertices", c_size_t),
         ("euler_characteristic", c_int64),
         ("genus", c_int64),
+    ]
+
+
+class UvfPolygonIslandsInfo(_Written):
+    """``struct UvfPolygonIslandsInfo``: what ``uvf_polygon_islands`` found."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("islands", c_size_t),
+        ("island_vertices", c_size_t),
+        ("non_manifold_edges", c_size_t),
+        ("misoriented_edges", c_size_t),
     ]
 
 
@@ -713,6 +726,7 @@ class UvfMeshDesc(Structure):
 
 _f64p = POINTER(c_double)
 _u32p = POINTER(c_uint32)
+_u8p = POINTER(c_uint8)
 
 #: Every function of ``uvflat.h``: name -> (restype, argtypes).
 PROTOTYPES = {
@@ -730,6 +744,10 @@ PROTOTYPES = {
         [_f64p, c_size_t, _u32p, c_size_t, _u32p, c_size_t, _u32p, c_size_t],
     ),
     "uvf_triangle_components": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, _u32p]),
+    "uvf_polygon_islands": (
+        UvfStatus,
+        [_u32p, c_size_t, c_size_t, _u32p, c_size_t, _u8p, _u8p, _u32p, _u32p, POINTER(UvfPolygonIslandsInfo)],
+    ),
     "uvf_fixed_boundary_options_default": (None, [POINTER(UvfFixedBoundaryOptions)]),
     "uvf_natural_conformal_options_default": (None, [POINTER(UvfNaturalConformalOptions)]),
     "uvf_fixed_boundary_map": (

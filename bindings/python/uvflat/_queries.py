@@ -108,6 +108,104 @@ def triangle_components(positions: ArrayLike, triangles: ArrayLike) -> np.ndarra
     return out
 
 
+#: ``PolygonIslands.face_island`` of a face that is not selected, and
+#: ``PolygonIslands.corner_vertex`` of its corners (``UVF_NOT_IN_AN_ISLAND``).
+NOT_IN_AN_ISLAND = 0xFFFFFFFF
+
+
+@dataclasses.dataclass(frozen=True)
+class PolygonIslands:
+    """The UV islands of a polygon mesh (:func:`polygon_islands`)."""
+
+    #: Island of every face (uint32), :data:`NOT_IN_AN_ISLAND` where not selected; islands are
+    #: numbered in order of their lowest face.
+    face_island: np.ndarray
+    #: Island vertex (one UV) of every corner (uint32), :data:`NOT_IN_AN_ISLAND` for corners of
+    #: faces not selected; numbered island by island, so each island's are one contiguous range.
+    corner_vertex: np.ndarray
+    #: Number of islands.
+    islands: int
+    #: Number of island vertices, all islands together.
+    island_vertices: int
+    #: Edges of selected faces used by more than two corners (cut as non-manifold).
+    non_manifold_edges: int
+    #: Edges between two selected faces that traverse it the same way (cut: orientations disagree).
+    misoriented_edges: int
+
+
+def polygon_islands(
+    corner_vertices: ArrayLike,
+    face_sizes: Optional[ArrayLike] = None,
+    vertex_count: Optional[int] = None,
+    selected: Optional[ArrayLike] = None,
+    seams: Optional[ArrayLike] = None,
+) -> PolygonIslands:
+    """Splits the selected faces of a polygon mesh into UV islands, as an interactive unwrap
+    does with seams and a face selection (``uvf_polygon_islands``).
+
+    Args:
+        corner_vertices: vertex of every face corner, face after face (counter-clockwise), as
+            Blender's ``loop.vertex_index``.
+        face_sizes: corners of every face; ``None`` when every face is a triangle.
+        vertex_count: number of vertices (default: the largest index + 1).
+        selected: one flag per face, true for the faces to lay out; ``None`` for all.
+        seams: one flag per corner, true when the edge from that corner to the next one of its
+            face is a seam (Blender: ``edge.use_seam[loop.edge_index]``); ``None`` for none.
+
+    Faces are in one island when joined through edges used by exactly two corners of the mesh,
+    both in selected faces and in opposite directions, that are not seams; corners of one vertex
+    share an island vertex only across such edges (a seam ending inside an island slits it).
+    Raises :class:`InvalidArgument` for mis-sized arrays, indices past ``vertex_count``, faces
+    of fewer than three corners.
+    """
+    corners = _as_indices(corner_vertices, "corner_vertices", InvalidArgument, None, "corner {row} references vertex {value}, which {reason}")
+    if face_sizes is None:
+        sizes = None
+        face_count = len(corners) // 3
+    else:
+        sizes = _as_indices(face_sizes, "face_sizes", InvalidArgument, None, "face {row} has {value} corners, which {reason}")
+        face_count = len(sizes)
+    if vertex_count is None:
+        vertex_count = int(corners.max()) + 1 if len(corners) else 0
+    select = _flags(selected, face_count, "selected")
+    seam = _flags(seams, len(corners), "seams")
+    face_island = np.empty(face_count, dtype=np.uint32)
+    corner_vertex = np.empty(len(corners), dtype=np.uint32)
+    info = L.UvfPolygonIslandsInfo()
+    _check(
+        L.library().uvf_polygon_islands(
+            _u32p(corners),
+            len(corners),
+            int(vertex_count),
+            None if sizes is None else _u32p(sizes),
+            face_count,
+            None if select is None else select.ctypes.data_as(POINTER(ctypes.c_uint8)),
+            None if seam is None else seam.ctypes.data_as(POINTER(ctypes.c_uint8)),
+            _u32p(face_island),
+            _u32p(corner_vertex),
+            byref(info),
+        )
+    )
+    return PolygonIslands(
+        face_island=face_island,
+        corner_vertex=corner_vertex,
+        islands=int(info.islands),
+        island_vertices=int(info.island_vertices),
+        non_manifold_edges=int(info.non_manifold_edges),
+        misoriented_edges=int(info.misoriented_edges),
+    )
+
+
+def _flags(values: Optional[ArrayLike], count: int, what: str) -> Optional[np.ndarray]:
+    """Optional per-element flags as a contiguous uint8 array of ``count`` entries."""
+    if values is None:
+        return None
+    array = np.ascontiguousarray(np.asarray(values).reshape(-1) != 0, dtype=np.uint8)
+    if len(array) != count:
+        raise InvalidArgument(f"{what} needs {count} flags, not {len(array)}")
+    return array
+
+
 def metrics(
     positions: ArrayLike,
     triangles: ArrayLike,

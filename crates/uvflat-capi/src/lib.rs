@@ -17,6 +17,7 @@ pub mod conformal;
 pub mod constraints;
 pub mod cut;
 pub mod errors;
+pub mod islands;
 pub mod mesh;
 pub mod mesh_handle;
 pub mod metrics;

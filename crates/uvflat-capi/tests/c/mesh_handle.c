@@ -85,6 +85,61 @@ static void build(void) {
     }
 }
 
+/* uvf_polygon_islands on the quads and the n-gon: a seam down the grid's middle column of edges
+ * makes two islands; with the left half unselected only the right one is left; every corner of
+ * one island and one mesh vertex shares one island vertex, and bad input is refused. */
+static void check_polygon_islands(void) {
+    static uint8_t seams[MAX_CORNERS], selected[MAX_TRIANGLES];
+    static uint32_t face_island[MAX_TRIANGLES], corner_vertex[MAX_CORNERS];
+    static size_t face_of[MAX_CORNERS];
+    UvfPolygonIslandsInfo info;
+    size_t c, d, f, start = 0, mid = GX / 2;
+    int consistent = 1;
+    memset(seams, 0, sizeof seams);
+    for (f = 0; f + 1 < face_count; f++) /* the quads' left edge (corner 3 → 0) on column mid */
+        if (corners32[4 * f] % GX == mid) seams[4 * f + 3] = 1;
+    info.struct_size = sizeof info;
+    check(uvf_polygon_islands(corners32, corner_count, NV, face_sizes, face_count, NULL, seams, face_island,
+                              corner_vertex, &info) == UVF_OK,
+          "polygon islands");
+    check(info.islands == 2 && info.non_manifold_edges == 0 && info.misoriented_edges == 0, "a seam column: two islands");
+    /* The middle column's vertices are doubled, the rest are one each. */
+    check(info.island_vertices == NV + GY, "the seam doubles its column's vertices");
+    for (f = 0; f < face_count; f++) {
+        for (c = start; c < start + face_sizes[f]; c++) face_of[c] = f;
+        start += face_sizes[f];
+    }
+    for (c = 0; c < corner_count; c++)
+        for (d = 0; d < corner_count; d++) {
+            int same_vertex = corners32[c] == corners32[d];
+            int same_island = face_island[face_of[c]] == face_island[face_of[d]];
+            int shared = corner_vertex[c] == corner_vertex[d];
+            if (shared && !(same_vertex && same_island)) consistent = 0;
+            if (same_vertex && same_island && corners32[c] % GX != mid && !shared) consistent = 0;
+        }
+    check(consistent, "corners share an island vertex exactly when they share a mesh vertex and an island (off the seam)");
+    for (f = 0; f < face_count; f++) selected[f] = f + 1 == face_count || corners32[4 * f] % GX >= mid;
+    check(uvf_polygon_islands(corners32, corner_count, NV, face_sizes, face_count, selected, NULL, face_island,
+                              corner_vertex, &info) == UVF_OK &&
+              info.islands == 1 && face_island[0] == UVF_NOT_IN_AN_ISLAND && corner_vertex[0] == UVF_NOT_IN_AN_ISLAND,
+          "the selection border cuts; unselected faces are in no island");
+    face_island[0] = 7;
+    check(uvf_polygon_islands(corners32, corner_count, NV - 1, face_sizes, face_count, NULL, NULL, face_island,
+                              corner_vertex, &info) == UVF_INVALID_ARGUMENT &&
+              strstr(uvf_last_error_message(), "vertices") != NULL && face_island[0] == 7,
+          "a vertex index past vertex_count is refused, outputs untouched");
+    check(uvf_polygon_islands(corners32, corner_count, NV, NULL, face_count, NULL, NULL, face_island, corner_vertex,
+                              &info) == UVF_INVALID_ARGUMENT,
+          "NULL face sizes means triangles: the counts must agree");
+    check(uvf_polygon_islands(corners32, corner_count, NV, face_sizes, face_count, NULL, NULL, NULL, corner_vertex,
+                              &info) == UVF_INVALID_ARGUMENT,
+          "NULL output");
+    info.struct_size = 0;
+    check(uvf_polygon_islands(corners32, corner_count, NV, face_sizes, face_count, NULL, NULL, face_island,
+                              corner_vertex, &info) == UVF_INVALID_ARGUMENT,
+          "unset struct_size");
+}
+
 int main(void) {
     static double packed[3 * NV], uv_flat[2 * NV], uv_handle[2 * NV], uv16[2 * NV];
     static uint32_t fan[3 * MAX_TRIANGLES], handle_triangles[3 * MAX_TRIANGLES], faces[MAX_TRIANGLES];
@@ -99,6 +154,7 @@ int main(void) {
     int same = 1;
 
     build();
+    check_polygon_islands();
     /* The caller's own triangulation: fans, and packed doubles. */
     for (f = 0; f < face_count; f++) {
         for (k = 1; k + 1 < face_sizes[f]; k++) {

@@ -10,6 +10,7 @@ pub(crate) mod connectivity;
 pub mod cut;
 pub(crate) mod fill;
 pub(crate) mod intrinsic_delaunay;
+pub mod islands;
 pub mod polygon;
 pub(crate) mod topology;
 pub(crate) mod unknowns;
