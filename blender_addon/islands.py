@@ -335,12 +335,6 @@ def stacked_triangles(triangle_lists: Sequence[np.ndarray], vertex_counts: Seque
     return tris, owner
 
 
-def island_areas(points: np.ndarray, triangles: np.ndarray, owner: np.ndarray, count: int) -> np.ndarray:
-    """Total triangle area (2D or 3D points) of each of ``count`` islands, from their stacked
-    arrays (:func:`stacked_triangles`)."""
-    return np.bincount(owner, weights=triangle_areas(points, triangles), minlength=count)
-
-
 def triangle_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     """Unsigned areas of triangles of 2D or 3D points."""
     p = np.asarray(points, dtype=np.float64)
@@ -392,33 +386,6 @@ def area_scale(area_3d: np.ndarray, area_uv: np.ndarray) -> np.ndarray:
 def scale_to_area(uv: np.ndarray, triangles: np.ndarray, area_3d: float) -> np.ndarray:
     """``uv`` scaled uniformly so that its area equals ``area_3d`` (:func:`area_scale`)."""
     return uv * float(area_scale(np.array([area_3d]), np.array([triangle_areas(uv, triangles).sum()]))[0])
-
-
-def shelf_layout(sizes: np.ndarray, margin: float) -> Tuple[np.ndarray, float]:
-    """Places boxes of ``sizes`` (k, 2) side by side on shelves (tallest first), rows about as
-    wide as the layout is high, ``margin`` apart (relative to the final unit square).
-
-    Returns (k, 2) lower-left corners and the scale that fits the whole layout into [0, 1]²;
-    boxes never overlap."""
-    sizes = np.asarray(sizes, dtype=np.float64).reshape(-1, 2)
-    k = len(sizes)
-    corners = np.zeros((k, 2))
-    if k == 0:
-        return corners, 1.0
-    total = float((sizes[:, 0] * sizes[:, 1]).sum())
-    gap = margin * np.sqrt(max(total, 1e-300)) * 1.1
-    width = max(float(np.sqrt(total) * 1.1), float(sizes[:, 0].max()))
-    x = y = row_height = 0.0
-    for i in np.argsort(-sizes[:, 1], kind="stable"):
-        w, h = sizes[i]
-        if x > 0 and x + w > width:
-            x, y, row_height = 0.0, y + row_height + gap, 0.0
-        corners[i] = (x + gap, y + gap)
-        x += w + gap
-        row_height = max(row_height, h)
-    extent = max(x, width, y + row_height) + 2 * gap
-    extent = max(extent, float((corners + sizes).max()) + gap)
-    return corners, 1.0 / extent if extent > 0 else 1.0
 
 
 def angle_distortion(positions: np.ndarray, uv: np.ndarray, triangles: np.ndarray) -> np.ndarray:

@@ -24,10 +24,9 @@ Steps (all objects of a multi-object Edit Mode together):
    method (and any method with one pin) solves without constraints and then moves the island
    by the similarity (rotation, uniform scale, translation) that best matches its pins.
    Islands with pins are not moved by the layout;
-5. islands without pins are scaled so that their UV area equals their 3D area (relative sizes
-   as in 3D), corrected for the image aspect ratio if asked, placed side by side without
-   overlapping and fitted into the unit square; optionally Blender's ``uv.pack_islands`` then
-   packs them (pinned islands stay locked);
+5. islands without pins are packed into the unit square by the library (``uvflat.pack_islands``:
+   UV area = 3D area, so relative sizes as in 3D; corrected for the image aspect ratio if asked);
+   optionally Blender's ``uv.pack_islands`` then packs them again (pinned islands stay locked);
    Every solved island is checked by the library's exact layout checker
    (``uvflat.check_layout``: flipped triangles, boundary edges that cross or touch); an island
    the chosen method folded is solved again by bijective SLIM (a scaffold around its free
@@ -520,10 +519,17 @@ class UnwrapRun:
         return self._summary(unwrapped_polys)
 
     def _layout(self, margin: float) -> None:
-        """Islands without pins: UV area = 3D area, aspect correction, side by side in [0, 1]²;
-        in one numpy pass over the stacked islands (thousands of one-face islands took 0.4 s
-        island by island)."""
-        free = [job for job in self.solved if len(job.pin_vertices) == 0]
+        """Islands without pins, packed into [0, 1]² by the library (``uvflat.pack_islands``:
+        one texel density, UV area = 3D area; rotation allowed unless an image's aspect ratio
+        squeezes them, where a rotation would shear them in the image), all islands in one call."""
+        # (An island the repair could not unfold may be degenerate or not finite: left as it is.)
+        free = [
+            job
+            for job in self.solved
+            if len(job.pin_vertices) == 0
+            and np.isfinite(job.uv).all()
+            and isl.triangle_areas(job.uv, job.island.triangles).sum() > 0
+        ]
         if not free:
             return
         counts = np.array([len(job.uv) for job in free])
@@ -532,18 +538,15 @@ class UnwrapRun:
         tris, owner = isl.stacked_triangles([job.island.triangles for job in free], counts)
         positions = np.concatenate([job.island.positions for job in free])
         uv = np.concatenate([job.uv for job in free])
-        factor = isl.area_scale(
-            isl.island_areas(positions, tris, owner, len(free)), isl.island_areas(uv, tris, owner, len(free))
-        )
-        uv *= factor[vertex_owner][:, None]
-        # from_square per island: an image wider than high squeezes u, a taller one v.
-        aspect = np.array([self.meshes[job.obj_index][5] for job in free])[vertex_owner]
-        uv[:, 0] /= np.where(aspect > 1, aspect, 1.0)
-        uv[:, 1] *= np.where(aspect < 1, aspect, 1.0)
-        uv -= np.minimum.reduceat(uv, starts)[vertex_owner]
-        corners, scale = isl.shelf_layout(np.maximum.reduceat(uv, starts), margin)
-        uv = (uv + corners[vertex_owner]) * scale
-        for job, part in zip(free, np.split(uv, starts[1:])):
+        # from_square per island: an image wider than high squeezes u, a taller one v; the
+        # surface areas shrink alike, so every island keeps the density of the square image.
+        aspect = np.array([self.meshes[job.obj_index][5] for job in free])
+        squeeze = np.where(aspect > 1, aspect, np.where(aspect < 1, 1.0 / aspect, 1.0))
+        uv[:, 0] /= np.where(aspect > 1, aspect, 1.0)[vertex_owner]
+        uv[:, 1] *= np.where(aspect < 1, aspect, 1.0)[vertex_owner]
+        areas = isl.triangle_areas(positions, tris) / squeeze[owner]
+        packed = self.uvflat.pack_islands(uv, tris, surface_areas=areas, margin=margin, rotate=bool((aspect == 1).all()))
+        for job, part in zip(free, np.split(packed.uv, starts[1:])):
             job.uv = part
 
     def _write_uvs(self) -> List[np.ndarray]:

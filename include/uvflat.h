@@ -1349,6 +1349,46 @@ typedef struct UvfNonlinearReport {
 } UvfNonlinearReport;
 
 /**
+ * Options of `uvf_pack_islands`. Initialise with `uvf_pack_options_default`.
+ */
+typedef struct UvfPackOptions {
+  /**
+   * `sizeof(UvfPackOptions)`, set by the default initialiser.
+   */
+  size_t struct_size;
+  /**
+   * Gap between islands in the unit square, half of it to the square's sides, in [0, 0.5)
+   * (default 0.005).
+   */
+  double margin;
+  /**
+   * Non-zero: islands may be rotated (to their minimum-area rectangle, and by quarter turns;
+   * default 1). Turn it off for UVs of a non-square texture whose islands were squeezed to
+   * its aspect ratio: a rotation there would shear them in the image.
+   */
+  uint32_t rotate;
+} UvfPackOptions;
+
+/**
+ * What `uvf_pack_islands` did. The caller sets `struct_size`; the library writes only the
+ * fields that fit in that many bytes.
+ */
+typedef struct UvfPackReport {
+  /**
+   * `sizeof(UvfPackReport)`, set by the caller.
+   */
+  size_t struct_size;
+  /**
+   * Islands packed.
+   */
+  size_t islands;
+  /**
+   * Fraction of the unit square covered by islands.
+   */
+  double utilization;
+} UvfPackReport;
+
+/**
  * Counts of a chart layout.
  */
 typedef struct UvfChartLayoutInfo {
@@ -3092,6 +3132,52 @@ enum UvfStatus uvf_mesh_nonlinear_map(const struct UvfMesh *mesh,
                                       const struct UvfNonlinearOptions *options,
                                       double *uv_out,
                                       struct UvfNonlinearReport *report_out);
+
+/**
+ * Fills `options` with defaults (margin 0.005, rotation on).
+ *
+ * # Safety
+ * `options` must be NULL or point to a writable struct.
+ */
+void uvf_pack_options_default(struct UvfPackOptions *options);
+
+/**
+ * Packs the islands of an existing UV layout into the unit square (Blender's *Pack Islands*):
+ * islands are the connected components of the UV triangles (triangles sharing a UV vertex);
+ * each is moved rigidly (and rotated when `options->rotate` is set) and scaled uniformly, and
+ * no two packed islands overlap (they are at least `options->margin` apart). The packer is the
+ * atlas's: the skyline of the islands' minimum-area rectangles and a packing of their
+ * rasterized shapes, the one covering more of the square kept.
+ *
+ * `uv`: 2 doubles per UV (`uv_count`); `uv_triangles`: 3 indices into `uv` per triangle.
+ * `surface_areas` (NULL: none): the surface (3D) area of every triangle; each island is then
+ * scaled so that its UV area equals its surface area before packing (one texel density), and
+ * without, islands keep their relative sizes. Islands that overlap in the input are moved as
+ * they are, not repaired.
+ *
+ * `uv_out` receives `2 × uv_count` doubles (may be `uv`): the packed UVs, UVs no triangle uses
+ * copied unchanged. `island_out` (NULL: not wanted) receives the island of each triangle,
+ * numbered in order of their first triangle. `report_out` (NULL: not wanted) the island
+ * count and the fraction of the square covered; its `struct_size` must be set.
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL or mis-sized array, a UV index ≥ `uv_count`,
+ * a non-finite UV, an island of zero UV area, a negative or non-finite surface area, margin
+ * outside [0, 0.5), no triangles) or `UVF_INTERNAL_ERROR`; the outputs are untouched on
+ * failure.
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `report_out`, when not NULL, must point
+ * to a `UvfPackReport` with its `struct_size` set.
+ */
+enum UvfStatus uvf_pack_islands(const double *uv,
+                                size_t uv_count,
+                                const uint32_t *uv_triangles,
+                                size_t triangle_count,
+                                const double *surface_areas,
+                                const struct UvfPackOptions *options,
+                                double *uv_out,
+                                uint32_t *island_out,
+                                struct UvfPackReport *report_out);
 
 /**
  * Chart layout (§3.3, Algorithm 2): the chart boundaries along the iso-2kπ lines of θ and φ

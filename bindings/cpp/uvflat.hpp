@@ -401,6 +401,60 @@ inline std::vector<std::uint32_t> triangle_components(Positions positions,
     return component;
 }
 
+/// The UV islands of a polygon mesh (`polygon_islands`).
+struct PolygonIslands {
+    /// Island of every face, `UVF_NOT_IN_AN_ISLAND` where not selected.
+    std::vector<std::uint32_t> face_island;
+    /// Island vertex (one UV) of every corner, `UVF_NOT_IN_AN_ISLAND` for unselected faces' corners.
+    std::vector<std::uint32_t> corner_vertex;
+    /// Counts: islands, island vertices, non-manifold and misoriented edges cut.
+    UvfPolygonIslandsInfo info;
+};
+
+/// UV islands of the selected faces of a polygon mesh, cut at seams (`uvf_polygon_islands`):
+/// `corner_vertices` face after face, `face_sizes` empty for triangles, `selected` (one flag per
+/// face) and `seams` (one flag per corner: the edge to the next corner) empty for all / none.
+inline PolygonIslands polygon_islands(View<std::uint32_t> corner_vertices, std::size_t vertex_count,
+                                      View<std::uint32_t> face_sizes = {}, View<std::uint8_t> selected = {},
+                                      View<std::uint8_t> seams = {}) {
+    const std::size_t faces = face_sizes.empty() ? corner_vertices.size() / 3 : face_sizes.size();
+    PolygonIslands out{std::vector<std::uint32_t>(faces), std::vector<std::uint32_t>(corner_vertices.size()), {}};
+    out.info.struct_size = sizeof out.info;
+    detail::check(uvf_polygon_islands(corner_vertices.data(), corner_vertices.size(), vertex_count,
+                                      face_sizes.empty() ? nullptr : face_sizes.data(), faces,
+                                      selected.empty() ? nullptr : selected.data(), seams.empty() ? nullptr : seams.data(),
+                                      out.face_island.data(), out.corner_vertex.data(), &out.info));
+    return out;
+}
+
+/// Packed islands (`pack_islands`).
+struct PackedIslands {
+    /// 2 values per UV: the packed layout.
+    std::vector<double> uv;
+    /// Island of every UV triangle.
+    std::vector<std::uint32_t> island;
+    /// Island count and the fraction of the unit square covered.
+    UvfPackReport report;
+};
+
+/// Packs the islands of an existing layout into the unit square (`uvf_pack_islands`): `uv` 2
+/// values per UV, `uv_triangles` 3 indices per triangle, `surface_areas` (empty: keep relative
+/// sizes) one 3D area per triangle for one texel density.
+inline PackedIslands pack_islands(View<double> uv, View<std::uint32_t> uv_triangles, View<double> surface_areas = {},
+                                  double margin = 0.005, bool rotate = true) {
+    const std::size_t nt = detail::count_of(uv_triangles, "uv_triangles");
+    UvfPackOptions o;
+    uvf_pack_options_default(&o);
+    o.margin = margin;
+    o.rotate = rotate ? 1u : 0u;
+    PackedIslands out{std::vector<double>(uv.size()), std::vector<std::uint32_t>(nt), {}};
+    out.report.struct_size = sizeof out.report;
+    detail::check(uvf_pack_islands(uv.data(), detail::count_of(uv, 2, "uv"), uv_triangles.data(), nt,
+                                   surface_areas.empty() ? nullptr : surface_areas.data(), &o, out.uv.data(),
+                                   out.island.data(), &out.report));
+    return out;
+}
+
 namespace detail {
 
 /// Checks a given boundary: 2 UV values per given vertex.

@@ -89,6 +89,41 @@ def load_mesh(name: str) -> Tuple[np.ndarray, np.ndarray]:
     return _load(name)
 
 
+def triangles_overlap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Whether the interiors of 2D triangles ``a[i]`` and ``b[i]`` (arrays ``(k, 3, 2)``)
+    intersect, for every pair at once: the separating axis test over the six edge normals
+    (touching counts as apart). Written here, independent of the library's checker."""
+
+    def separated(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+        out = np.zeros(len(p), dtype=bool)
+        for k in range(3):
+            e = p[:, (k + 1) % 3] - p[:, k]
+            n = np.stack([-e[:, 1], e[:, 0]], axis=1)
+            sp = np.einsum("ij,ikj->ik", n, p)
+            sq = np.einsum("ij,ikj->ik", n, q)
+            tolerance = 1e-12 * np.maximum(np.abs(sp).max(axis=1), np.abs(sq).max(axis=1))
+            out |= (sp.max(axis=1) <= sq.min(axis=1) + tolerance) | (sq.max(axis=1) <= sp.min(axis=1) + tolerance)
+        return out
+
+    return ~(separated(a, b) | separated(b, a))
+
+
+def islands_overlap(uv_triangles: List[np.ndarray]) -> Optional[Tuple[int, int]]:
+    """The first pair of islands (each a ``(k, 3, 2)`` array of UV triangles) whose triangles
+    overlap, or None: exact triangle pairs between islands whose bounding boxes meet."""
+    boxes = [(t.reshape(-1, 2).min(axis=0), t.reshape(-1, 2).max(axis=0)) for t in uv_triangles]
+    for i in range(len(uv_triangles)):
+        for j in range(i + 1, len(uv_triangles)):
+            if (boxes[i][1] <= boxes[j][0]).any() or (boxes[j][1] <= boxes[i][0]).any():
+                continue
+            ti, tj = uv_triangles[i], uv_triangles[j]
+            a = np.repeat(ti, len(tj), axis=0)
+            b = np.tile(tj, (len(ti), 1, 1))
+            if triangles_overlap(a, b).any():
+                return i, j
+    return None
+
+
 def run_cli(*args: str, check: bool = True) -> subprocess.CompletedProcess:
     """Runs the uvflat CLI; skips (fails under CI) when it was not built."""
     cli = cli_file()

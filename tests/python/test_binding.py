@@ -30,6 +30,7 @@ from conftest import (
     REPO,
     cli_error,
     cli_unwrap,
+    islands_overlap,
     library_file,
     load_mesh,
     mesh_path,
@@ -211,7 +212,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 128, sorted(functions)
+    assert len(functions) == 130, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -237,6 +238,8 @@ def test_constants_and_status_codes_match_the_header():
 STRUCTS = {
     "UvfMeshInfo": _library.UvfMeshInfo,
     "UvfPolygonIslandsInfo": _library.UvfPolygonIslandsInfo,
+    "UvfPackOptions": _library.UvfPackOptions,
+    "UvfPackReport": _library.UvfPackReport,
     "UvfFixedBoundaryOptions": _library.UvfFixedBoundaryOptions,
     "UvfNaturalConformalOptions": _library.UvfNaturalConformalOptions,
     "UvfMetrics": _library.UvfMetrics,
@@ -545,6 +548,50 @@ def test_polygon_islands_refuse_bad_input():
         uvflat.polygon_islands([0, 1, 2, 3], [3])
     with pytest.raises(uvflat.InvalidArgument, match="flags"):
         uvflat.polygon_islands([0, 1, 2], None, seams=[True])
+
+
+def test_pack_islands_moves_islands_rigidly_apart_at_one_texel_density():
+    p, t = load_mesh("closed_g0_decimated_knight.obj")
+    layout = uvflat.unwrap(p, t, max_stretch=1.05)
+    assert layout.report.islands > 10
+    # Scramble the islands: each turned, scaled and put at the origin, all on top of each other.
+    rng = np.random.default_rng(3)
+    uv = layout.uv.copy()
+    island = uvflat.pack_islands(layout.uv, layout.triangles).island
+    vertex_island = np.empty(len(uv), dtype=np.int64)
+    vertex_island[layout.triangles.reshape(-1)] = np.repeat(island, 3)
+    for i in range(int(island.max()) + 1):
+        v = vertex_island == i
+        angle, scale = rng.uniform(0, 2 * np.pi), rng.uniform(0.2, 5.0)
+        r = scale * np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]])
+        uv[v] = (uv[v] - uv[v].mean(axis=0)) @ r.T
+    packed = uvflat.pack_islands(uv, layout.triangles, p, t, margin=0.01)
+    q = packed.uv
+    assert packed.islands == int(island.max()) + 1 and 0 < packed.utilization <= 1
+    assert (q >= -1e-12).all() and (q <= 1 + 1e-12).all()
+    # Rigid per island (up to one uniform scale): every edge length ratio equal, no mirroring.
+    density = []
+    area3 = 0.5 * np.linalg.norm(np.cross(p[t[:, 1]] - p[t[:, 0]], p[t[:, 2]] - p[t[:, 0]]), axis=1)
+    for i in range(packed.islands):
+        tri = layout.triangles[packed.island == i]
+        a, b = uv[tri], q[tri]
+        la = np.linalg.norm(a[:, 1] - a[:, 0], axis=1)
+        lb = np.linalg.norm(b[:, 1] - b[:, 0], axis=1)
+        ratio = lb / la
+        assert np.allclose(ratio, ratio[0], rtol=1e-9)
+        sa = np.cross(a[:, 1] - a[:, 0], a[:, 2] - a[:, 0])
+        sb = np.cross(b[:, 1] - b[:, 0], b[:, 2] - b[:, 0])
+        assert (np.sign(sa) == np.sign(sb)).all()
+        density.append(0.5 * np.abs(sb).sum() / area3[packed.island == i].sum())
+    assert np.allclose(density, density[0], rtol=1e-9), "one texel density over all islands"
+    # No two islands overlap (exact per-triangle test between islands whose boxes meet).
+    assert islands_overlap([q[layout.triangles[packed.island == i]] for i in range(packed.islands)]) is None
+    # The check itself: the scrambled input, every island at the origin, overlaps.
+    assert islands_overlap([uv[layout.triangles[packed.island == i]] for i in range(packed.islands)]) is not None
+    with pytest.raises(uvflat.InvalidArgument, match="margin"):
+        uvflat.pack_islands(uv, layout.triangles, margin=0.5)
+    with pytest.raises(uvflat.InvalidArgument, match="no UV area"):
+        uvflat.pack_islands([[0, 0], [1, 1], [2, 2]], [[0, 1, 2]])
 
 
 def test_triangle_components_label_each_connected_part():

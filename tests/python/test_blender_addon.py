@@ -22,7 +22,7 @@ from typing import Dict, List, Sequence, Tuple
 import numpy as np
 import pytest
 
-from conftest import IN_CI, REPO, library_file, mesh_path, missing
+from conftest import IN_CI, REPO, islands_overlap, library_file, mesh_path, missing
 
 try:
     import bpy  # type: ignore[import-not-found]
@@ -280,15 +280,9 @@ def assert_no_flips(data: Dict[str, np.ndarray], islands: List[np.ndarray], excl
 
 
 def assert_no_overlap(data: Dict[str, np.ndarray], islands: List[np.ndarray]) -> None:
-    """Islands' UV bounding boxes are disjoint (what the side-by-side layout promises)."""
-    boxes = []
-    for polys in islands:
-        uv = data["uv"][poly_loops(data, polys)]
-        boxes.append((uv.min(0), uv.max(0)))
-    for i in range(len(boxes)):
-        for j in range(i + 1, len(boxes)):
-            (a0, a1), (b0, b1) = boxes[i], boxes[j]
-            assert (a1 <= b0 + 1e-9).any() or (b1 <= a0 + 1e-9).any(), f"islands {i} and {j} overlap"
+    """No triangle of one island overlaps a triangle of another (exact test in conftest)."""
+    pair = islands_overlap([data["uv"][triangles_of(data, polys)].astype(np.float64) for polys in islands])
+    assert pair is None, f"islands {pair} overlap"
 
 
 def run(**props) -> Dict:
@@ -729,7 +723,11 @@ def add_wide_image(obj) -> None:
 
 
 def test_correct_aspect_uses_the_active_image():
-    def unwrap_extent(aspect_image: bool) -> float:
+    """With a 2:1 image, Correct Aspect squeezes u by 2: stretched back, the layout has the angle
+    distortion of the plain unwrap of the same grid (the same map up to a similarity), and
+    squeezed it has much more."""
+
+    def unwrap(aspect_image: bool) -> Tuple[Dict[str, np.ndarray], np.ndarray]:
         for o in list(bpy.data.objects):
             bpy.data.objects.remove(o)
         obj = grid(6)
@@ -737,12 +735,14 @@ def test_correct_aspect_uses_the_active_image():
             add_wide_image(obj)
         edit([obj], lambda o: np.ones(len(o.data.polygons), bool))
         run(correct_aspect=True)
-        uv = read(obj)["uv"]
-        w, h = np.ptp(uv, axis=0)
-        return w / h
+        return read(obj), np.arange(len(obj.data.polygons))
 
-    plain, wide = unwrap_extent(False), unwrap_extent(True)
-    assert wide == pytest.approx(plain / 2, rel=1e-4)
+    plain, polys = unwrap(False)
+    wide, _ = unwrap(True)
+    assert angle_distortion(wide, polys) > 10 * angle_distortion(plain, polys)
+    stretched = dict(wide, uv=wide["uv"] * np.array([2.0, 1.0]))
+    assert angle_distortion(stretched, polys) == pytest.approx(angle_distortion(plain, polys), rel=1e-3)
+    assert (wide["uv"] >= -1e-6).all() and (wide["uv"] <= 1 + 1e-6).all()
 
 
 def covered_more_than_once(data: Dict[str, np.ndarray], polys: np.ndarray, samples: int = 150) -> float:
@@ -1090,15 +1090,10 @@ def test_multi_object_edit_mode():
     changed_a = poly_loops(da, np.flatnonzero(ma))
     assert (np.abs(da["uv"][changed_a] - ua[changed_a]).max(axis=1) > 0).all()
     assert (np.abs(db["uv"] - ub).max(axis=1) > 0).all()
-    # The islands of both objects share one layout: no bounding boxes overlap across objects.
-    boxes = []
-    for data, polys in [(da, np.flatnonzero(ma))] + [(db, p) for p in uv_islands(db, np.arange(len(b.data.polygons)))]:
-        uv = data["uv"][poly_loops(data, polys)]
-        boxes.append((uv.min(0), uv.max(0)))
-    for i in range(len(boxes)):
-        for j in range(i + 1, len(boxes)):
-            (a0, a1), (b0, b1) = boxes[i], boxes[j]
-            assert (a1 <= b0 + 1e-9).any() or (b1 <= a0 + 1e-9).any()
+    # The islands of both objects share one layout: no island overlaps another across objects.
+    parts = [(da, np.flatnonzero(ma))] + [(db, p) for p in uv_islands(db, np.arange(len(b.data.polygons)))]
+    pair = islands_overlap([data["uv"][triangles_of(data, polys)].astype(np.float64) for data, polys in parts])
+    assert pair is None, f"islands {pair} overlap"
 
 
 def test_undo():

@@ -30,6 +30,7 @@ from ._common import (
     thread_count,
     version,
 )
+from ._pack import PackedIslands, pack_islands
 from ._queries import (
     LayoutCheck,
     check_layout,
@@ -304,6 +305,8 @@ __all__ = [
     "NOT_IN_AN_ISLAND",
     "PolygonIslands",
     "polygon_islands",
+    "PackedIslands",
+    "pack_islands",
     "tutte",
     "version",
 ]

@@ -163,6 +163,18 @@ class UvfPolygonIslandsInfo(_Written):
     ]
 
 
+class UvfPackOptions(Structure):
+    """``struct UvfPackOptions``; fill with ``uvf_pack_options_default``."""
+
+    _fields_ = [("struct_size", c_size_t), ("margin", c_double), ("rotate", c_uint32)]
+
+
+class UvfPackReport(_Written):
+    """``struct UvfPackReport``: what ``uvf_pack_islands`` did."""
+
+    _fields_ = [("struct_size", c_size_t), ("islands", c_size_t), ("utilization", c_double)]
+
+
 class UvfFixedBoundaryOptions(Structure):
     """``struct UvfFixedBoundaryOptions``; fill with ``uvf_fixed_boundary_options_default``."""
 
@@ -744,6 +756,11 @@ PROTOTYPES = {
         [_f64p, c_size_t, _u32p, c_size_t, _u32p, c_size_t, _u32p, c_size_t],
     ),
     "uvf_triangle_components": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, _u32p]),
+    "uvf_pack_options_default": (None, [POINTER(UvfPackOptions)]),
+    "uvf_pack_islands": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, _f64p, POINTER(UvfPackOptions), _f64p, _u32p, POINTER(UvfPackReport)],
+    ),
     "uvf_polygon_islands": (
         UvfStatus,
         [_u32p, c_size_t, c_size_t, _u32p, c_size_t, _u8p, _u8p, _u32p, _u32p, POINTER(UvfPolygonIslandsInfo)],

@@ -23,6 +23,7 @@ pub mod mesh_handle;
 pub mod metrics;
 pub mod near_optimal;
 pub mod nonlinear;
+pub mod pack;
 pub mod pgp;
 pub mod quadcover;
 pub mod spectral;

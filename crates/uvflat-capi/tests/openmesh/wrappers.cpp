@@ -547,6 +547,47 @@ void check_components(const Arrays &a) {
                  [&] { uvflat::triangle_components(a.positions, short_triangles); });
 }
 
+/// Polygon islands of two copies of a mesh (OpenMesh's triangles as polygons of 3): two islands,
+/// one island vertex per mesh vertex; one seam-free copy packed with pack_islands (the
+/// mean value map of the disk, twice, on top of each other) moves the copies apart: the two
+/// islands' boxes stay inside the unit square and each copy keeps its shape.
+void check_islands_and_packing(const Arrays &a) {
+    context = "polygon islands and packing";
+    std::vector<std::uint32_t> corners = a.triangles;
+    for (std::uint32_t v : a.triangles) corners.push_back(v + std::uint32_t(a.vertex_count()));
+    const uvflat::PolygonIslands islands = uvflat::polygon_islands(corners, 2 * a.vertex_count());
+    expect(islands.info.islands == 2 && islands.info.island_vertices == 2 * a.vertex_count(), "two copies, two islands");
+    expect(islands.face_island.front() == 0 && islands.face_island.back() == 1, "islands in order of their first face");
+    std::vector<std::uint8_t> none(a.triangle_count() * 2, 0);
+    none[0] = 1;
+    const uvflat::PolygonIslands selected = uvflat::polygon_islands(corners, 2 * a.vertex_count(), {}, none);
+    expect(selected.info.islands == 1 && selected.face_island[1] == UVF_NOT_IN_AN_ISLAND, "one selected face");
+    const std::vector<double> uv = uvflat::fixed_boundary_map(a.positions, a.triangles);
+    std::vector<double> both = uv;
+    both.insert(both.end(), uv.begin(), uv.end());
+    const uvflat::PackedIslands packed = uvflat::pack_islands(both, corners, {}, 0.02);
+    expect(packed.report.islands == 2 && packed.report.utilization > 0.2, "two islands packed");
+    const std::size_t n = a.vertex_count();
+    double lo[2][2] = {{1e300, 1e300}, {1e300, 1e300}}, hi[2][2] = {{-1e300, -1e300}, {-1e300, -1e300}};
+    for (std::size_t v = 0; v < 2 * n; ++v)
+        for (int d = 0; d < 2; ++d) {
+            lo[v / n][d] = std::min(lo[v / n][d], packed.uv[2 * v + d]);
+            hi[v / n][d] = std::max(hi[v / n][d], packed.uv[2 * v + d]);
+        }
+    for (int k = 0; k < 2; ++k)
+        expect(lo[k][0] >= 0 && lo[k][1] >= 0 && hi[k][0] <= 1 && hi[k][1] <= 1, "packed inside the unit square");
+    // Same shape: the distance between vertices 0 and 1 over that between 0 and 2, in both copies.
+    auto ratio = [&](std::size_t off) {
+        auto d = [&](std::size_t x, std::size_t y) {
+            return std::hypot(packed.uv[2 * (off + x)] - packed.uv[2 * (off + y)], packed.uv[2 * (off + x) + 1] - packed.uv[2 * (off + y) + 1]);
+        };
+        return d(0, 1) / d(0, 2);
+    };
+    expect(std::abs(ratio(0) - ratio(n)) < 1e-9, "both copies keep their shape");
+    expect_error(UVF_INVALID_ARGUMENT, "a vertex past vertex_count", [&] { uvflat::polygon_islands(corners, a.vertex_count()); });
+    expect_error(UVF_INVALID_ARGUMENT, "margin 0.5", [&] { uvflat::pack_islands(both, corners, {}, 0.5); });
+}
+
 double max_difference(const std::vector<double> &x, const std::vector<double> &y) {
     if (x.size() != y.size()) return INFINITY;
     double worst = 0;
@@ -707,6 +748,7 @@ int main(int argc, char **argv) {
     run("atlas of the disk", [&] { check_atlas("disk_nefertiti_small.obj", disk); });
     run("intrinsic tools", [&] { check_intrinsic_tools(disk); });
     run("mesh handle", [&] { check_mesh_handle(disk); });
+    run("islands and packing", [&] { check_islands_and_packing(disk); });
     run("unwrap of the torus", [&] { check_unwrap("closed_g1_torus.obj", torus); });
     run("unwrap of the disk", [&] { check_unwrap("disk_nefertiti_small.obj", disk); });
     std::printf("%d failure(s)\n", failures);

@@ -34,6 +34,7 @@
 pub(crate) mod chart;
 pub(crate) mod pack;
 pub(crate) mod raster_pack;
+pub mod repack;
 pub(crate) mod split;
 
 use crate::error::{Error, Result};
@@ -385,25 +386,37 @@ fn shared_boundaries(mesh: &TriMesh, owner: &[u32]) -> Vec<((u32, u32), f64)> {
     pairs
 }
 
-/// Packs the charts by the skyline of their rectangles ([`pack::pack`]) and by their rasterized
-/// shapes ([`raster_pack::pack_raster`]) and keeps the layout with the higher utilization (the
-/// raster one wins on most meshes with several charts; the rectangles can win for one or two
-/// nearly rectangular charts, which the raster's pixels pad more).
+/// Packs the charts (flattened, at one texel density) into the unit square ([`pack_layouts`]).
 fn pack_best(
     layouts: &mut [Vec<[f64; 2]>],
     charts: &[FlatChart],
     areas: &[f64],
     options: &AtlasOptions,
 ) -> pack::Packing {
-    if charts.len() == 1 {
+    let triangles: Vec<&[[u32; 3]]> = charts.iter().map(|c| c.corners.as_slice()).collect();
+    pack_layouts(layouts, &triangles, areas, options.margin, options.rotate)
+}
+
+/// Packs charts (UV points modified in place, their triangles, their UV areas) by the skyline
+/// of their rectangles ([`pack::pack`]) and by their rasterized shapes
+/// ([`raster_pack::pack_raster`]) and keeps the layout with the higher utilization (the raster
+/// one wins on most meshes with several charts; the rectangles can win for one or two nearly
+/// rectangular charts, which the raster's pixels pad more).
+pub(crate) fn pack_layouts(
+    layouts: &mut [Vec<[f64; 2]>],
+    triangles: &[&[[u32; 3]]],
+    areas: &[f64],
+    margin: f64,
+    rotate: bool,
+) -> pack::Packing {
+    if layouts.len() == 1 {
         // One chart: placed in its minimum-area rectangle (the raster packing of one chart
         // rasterizes every triangle to place one shape; see docs/benchmarks.md for utilizations).
-        return pack::pack(layouts, areas, options.margin, options.rotate);
+        return pack::pack(layouts, areas, margin, rotate);
     }
     let mut raster = layouts.to_vec();
-    let triangles: Vec<&[[u32; 3]]> = charts.iter().map(|c| c.corners.as_slice()).collect();
-    let shaped = raster_pack::pack_raster(&mut raster, &triangles, areas, options.margin, options.rotate);
-    let skyline = pack::pack(layouts, areas, options.margin, options.rotate);
+    let shaped = raster_pack::pack_raster(&mut raster, triangles, areas, margin, rotate);
+    let skyline = pack::pack(layouts, areas, margin, rotate);
     match shaped {
         Some(p) if p.utilization > skyline.utilization => {
             layouts.clone_from_slice(&raster);

@@ -123,7 +123,10 @@ impl CornerLayout {
             return Err(Error::InvalidArgument(format!("the face sizes add up to {total} corners, but {n} are given")));
         }
         if let Some(f) = faces.face_sizes.iter().position(|&s| s < 3) {
-            return Err(Error::InvalidArgument(format!("face {f} has {} corners; a face needs at least 3", faces.face_sizes[f])));
+            return Err(Error::InvalidArgument(format!(
+                "face {f} has {} corners; a face needs at least 3",
+                faces.face_sizes[f]
+            )));
         }
         if let Some(c) = faces.corner_vertices.iter().position(|&v| v as usize >= faces.vertex_count) {
             return Err(Error::InvalidArgument(format!(
@@ -229,7 +232,8 @@ mod tests {
 
     fn islands_of(corners: &[u32], sizes: &[u32], selected: Option<&[bool]>, seams: Option<&[bool]>) -> PolygonIslands {
         let vertex_count = *corners.iter().max().unwrap() as usize + 1;
-        polygon_islands(&PolygonFaces { corner_vertices: corners, face_sizes: sizes, vertex_count, selected, seams }).unwrap()
+        polygon_islands(&PolygonFaces { corner_vertices: corners, face_sizes: sizes, vertex_count, selected, seams })
+            .unwrap()
     }
 
     #[test]
@@ -294,7 +298,13 @@ mod tests {
     fn bad_input_is_refused_with_a_message() {
         let (c, s) = strip(2);
         let bad = |corners: &[u32], sizes: &[u32], vertex_count: usize| {
-            polygon_islands(&PolygonFaces { corner_vertices: corners, face_sizes: sizes, vertex_count, selected: None, seams: None })
+            polygon_islands(&PolygonFaces {
+                corner_vertices: corners,
+                face_sizes: sizes,
+                vertex_count,
+                selected: None,
+                seams: None,
+            })
         };
         assert!(matches!(bad(&c, &s, 3), Err(Error::InvalidArgument(m)) if m.contains("names vertex 3")));
         assert!(matches!(bad(&c, &[4, 3], 6), Err(Error::InvalidArgument(m)) if m.contains("add up")));
