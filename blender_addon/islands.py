@@ -1,5 +1,6 @@
-"""Splitting a face selection into UV islands (by the library) and laying islands out; numpy and
-the uvflat binding only, no bpy.
+"""The arrays of each UV island of a face selection, around the library's calls (islands by
+``uvflat.polygon_islands``, zero-area faces by ``uvflat.snapped_repair``); numpy and the uvflat
+binding only, no bpy.
 
 Everything here works on flat arrays read from a Blender mesh with ``foreach_get``:
 
@@ -29,28 +30,6 @@ import dataclasses
 from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
-
-
-def connected_components(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Root label (the smallest member) of every node 0..n-1 of the undirected graph with edges
-    (a[i], b[i]); hook-and-compress (Shiloach–Vishkin style), all in numpy."""
-    parent = np.arange(n, dtype=np.int64)
-    a = np.asarray(a, dtype=np.int64)
-    b = np.asarray(b, dtype=np.int64)
-    while True:
-        pa, pb = parent[a], parent[b]
-        differ = pa != pb
-        if not differ.any():
-            return parent
-        a, b, pa, pb = a[differ], b[differ], pa[differ], pb[differ]
-        # parent[x] <= x always holds, so hooking the larger root under the smaller one can
-        # never make a cycle; roots are fully compressed below, so pa, pb are roots.
-        np.minimum.at(parent, np.maximum(pa, pb), np.minimum(pa, pb))
-        while True:
-            grand = parent[parent]
-            if np.array_equal(grand, parent):
-                break
-            parent = grand
 
 
 @dataclasses.dataclass
@@ -203,75 +182,27 @@ def cut_open(island: Island, cut_triangles: np.ndarray, cut_positions: np.ndarra
     )
 
 
-#: The library's degeneracy threshold (``DEGENERATE_RELATIVE_AREA`` in ``crates/uvflat-core/src/mesh/validate.rs``):
-#: a triangle whose area divided by its longest edge squared is at most this is rejected.
-DEGENERATE_RELATIVE_AREA = 1e-12
-
-
-def relative_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """Area of every triangle divided by its longest edge squared (0 where all corners meet)."""
-    p = np.asarray(points, dtype=np.float64)
-    t = np.asarray(triangles, dtype=np.int64)
-    a, b, c = p[t[:, 0]], p[t[:, 1]], p[t[:, 2]]
-    longest = np.maximum(np.maximum(((b - a) ** 2).sum(axis=1), ((c - a) ** 2).sum(axis=1)), ((c - b) ** 2).sum(axis=1))
-    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
-    return np.where(longest > 0, area / np.where(longest > 0, longest, 1.0), 0.0)
-
-
-def without_degenerate(island: Island) -> Island:
+def without_degenerate(uvflat: Any, island: Island) -> Island:
     """The island without its zero-area triangles (two vertices snapped together but not
-    merged, collinear corners), which the library refuses. Vertices that coincide (an edge of
-    a zero-area triangle shorter than a millionth of its longest) are first welded into one
-    for the solve (both keep their mesh vertices; their loops get the one UV); the remaining
-    zero-area triangles are left out: slits of zero area, free boundaries of the solve, their
-    loops still getting the UVs of their vertices. The island is returned unchanged when it
-    has none, or when a vertex would be left in no triangle."""
-    bad = relative_areas(island.positions, island.triangles) <= DEGENERATE_RELATIVE_AREA
-    if not bad.any():
+    merged, collinear corners), which the library's methods refuse, by the library's
+    ``uvflat.snapped_repair``: vertices that coincide are welded into one for the solve (both
+    keep their mesh vertices; their loops get the one UV), the triangles still of zero area
+    are left out (slits of zero area, free boundaries of the solve, their loops still getting
+    the UVs of their vertices). The island is returned unchanged when it has none, or when a
+    vertex would be left in no triangle (the solve would give it no UV; the library's refusal
+    then names the face)."""
+    repair = uvflat.snapped_repair(island.positions, island.triangles)
+    if repair.left_out == 0 or repair.unreferenced > 0 or not repair.keep.any():
         return island
-    island = welded(island, bad)
-    keep = ~(relative_areas(island.positions, island.triangles) <= DEGENERATE_RELATIVE_AREA)
-    if keep.all() or not keep.any():
-        return island
-    if len(np.unique(island.triangles[keep])) < len(island.positions):
-        return island
+    vertex = repair.vertex.astype(np.int64)
+    first = np.unique(vertex, return_index=True)[1]
     return dataclasses.replace(
         island,
-        triangles=np.ascontiguousarray(island.triangles[keep]),
-        triangle_loops=island.triangle_loops[keep],
-        triangle_diagonals=island.triangle_diagonals[keep],
-    )
-
-
-#: Edge length, relative to the longest edge of its zero-area triangle, below which its two
-#: vertices count as one point (snapped together but not merged).
-COINCIDENT_RELATIVE_LENGTH = 1e-6
-
-
-def welded(island: Island, degenerate: np.ndarray) -> Island:
-    """The island with the vertices that coincide welded (see :func:`without_degenerate`):
-    the endpoints of every edge of a ``degenerate`` triangle shorter than
-    ``COINCIDENT_RELATIVE_LENGTH`` times that triangle's longest edge become one vertex, and the
-    triangles that lose a corner to it are dropped. Unchanged when no edge is that short."""
-    t = island.triangles[degenerate].astype(np.int64)
-    p = island.positions
-    a, b = t, np.roll(t, -1, axis=1)
-    length = np.linalg.norm(p[b] - p[a], axis=2)
-    short = length <= COINCIDENT_RELATIVE_LENGTH * length.max(axis=1, keepdims=True)
-    if not short.any():
-        return island
-    root = connected_components(len(p), a[short], b[short])
-    roots, first, new_id = np.unique(root, return_index=True, return_inverse=True)
-    new_id = new_id.reshape(-1)
-    triangles = new_id[island.triangles.astype(np.int64)]
-    proper = (triangles[:, 0] != triangles[:, 1]) & (triangles[:, 1] != triangles[:, 2]) & (triangles[:, 2] != triangles[:, 0])
-    return dataclasses.replace(
-        island,
-        positions=np.ascontiguousarray(p[first]),
-        triangles=np.ascontiguousarray(triangles[proper], dtype=np.uint32),
-        loop_vertex=new_id[island.loop_vertex],
-        triangle_loops=island.triangle_loops[proper],
-        triangle_diagonals=island.triangle_diagonals[proper],
+        positions=np.ascontiguousarray(island.positions[first]),
+        triangles=np.ascontiguousarray(vertex[island.triangles[repair.keep].astype(np.int64)], dtype=np.uint32),
+        loop_vertex=vertex[island.loop_vertex],
+        triangle_loops=island.triangle_loops[repair.keep],
+        triangle_diagonals=island.triangle_diagonals[repair.keep],
     )
 
 

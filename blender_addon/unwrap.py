@@ -223,8 +223,8 @@ class UnwrapRun:
         poly_total = _get(me.polygons, "loop_total", np.int32, n_polys)
         tri_loops = _get(me.loop_triangles, "loops", np.int32, len(me.loop_triangles), 3)
         # Checked once for the whole mesh, so that islands are only searched when it has any.
-        relative = isl.relative_areas(positions, loop_vertex[tri_loops].reshape(-1, 3))
-        self.has_degenerate.append(bool((relative <= isl.DEGENERATE_RELATIVE_AREA).any()))
+        corners = loop_vertex[tri_loops].reshape(-1, 3)
+        self.has_degenerate.append(bool(len(corners)) and self.uvflat.snapped_repair(positions, corners).left_out > 0)
         split = isl.split_islands(
             self.uvflat,
             positions,
@@ -318,7 +318,7 @@ class UnwrapRun:
     def _solve_job(self, index: int, job: _Job, known_disk: bool, progress: Callable[[float], bool]) -> None:
         uvflat = self.uvflat
         if self.has_degenerate[job.obj_index]:
-            job = self.jobs[index] = _Job(job.obj_index, isl.without_degenerate(job.island), job.pin_vertices, job.pin_uv)
+            job = self.jobs[index] = _Job(job.obj_index, isl.without_degenerate(self.uvflat, job.island), job.pin_vertices, job.pin_uv)
         problem, loops = (None, 1) if known_disk else self._problem(job)
         job.holes = loops > 1
         if problem is not None and problem[0] in ("closed", "not_disk") and self.settings["cut_closed"]:

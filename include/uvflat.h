@@ -1779,6 +1779,33 @@ typedef struct UvfQuadCoverReport {
 } UvfQuadCoverReport;
 
 /**
+ * What `uvf_snapped_repair` found. The caller sets `struct_size`; the library writes only the
+ * fields that fit in that many bytes.
+ */
+typedef struct UvfSnappedRepairInfo {
+  /**
+   * `sizeof(UvfSnappedRepairInfo)`, set by the caller.
+   */
+  size_t struct_size;
+  /**
+   * Solve vertices (input vertices after welding).
+   */
+  size_t vertices;
+  /**
+   * Input vertices welded onto another one.
+   */
+  size_t welded;
+  /**
+   * Triangles left out of the solve.
+   */
+  size_t left_out;
+  /**
+   * Solve vertices that only left-out triangles use (a solve gives them no UV).
+   */
+  size_t unreferenced;
+} UvfSnappedRepairInfo;
+
+/**
  * Options of `uvf_spectral_conformal_map`. Initialise with `uvf_spectral_options_default`.
  */
 typedef struct UvfSpectralOptions {
@@ -3621,6 +3648,39 @@ enum UvfStatus uvf_mesh_quadcover_quad_mesh(const struct UvfMesh *mesh,
                                             double density,
                                             struct UvfQuadMesh **mesh_out,
                                             struct UvfQuadCoverReport *report_out);
+
+/**
+ * What to weld and what to leave out so that a mesh with zero-area triangles (vertices
+ * snapped onto each other but not merged, collinear corners) can be solved, where
+ * `uvf_mesh_info` and every method refuse it. In every degenerate triangle (area at most 1e-12
+ * of its longest edge squared, or a corner repeated), the two ends of an edge shorter than
+ * 1e-6 of that triangle's longest edge are one point and are welded (transitively); every
+ * triangle still degenerate over the welded vertices is left out (a slit of zero area becomes
+ * a free boundary of the solve).
+ *
+ * `vertex_out` (`vertex_count` entries) receives the solve vertex of every input vertex,
+ * numbered in order of their lowest input vertex (a vertex welded to none is its own);
+ * `keep_out` (`triangle_count` entries) 1 for the triangles to solve, 0 for the left-out
+ * ones. Solve the kept triangles over the solve vertices (each at the position of its lowest
+ * input vertex) and give every input vertex its solve vertex's UV; `info_out->unreferenced`
+ * counts solve vertices that only left-out triangles use, which a solve gives no UV. A mesh
+ * without degenerate triangles welds nothing and keeps everything.
+ *
+ * Returns `UVF_OK`, `UVF_INVALID_ARGUMENT` (NULL or mis-sized array) or `UVF_INVALID_MESH`
+ * (an index ≥ `vertex_count`, a non-finite coordinate of a used vertex, no triangles); the
+ * outputs are untouched on failure. Cost: O(n + m).
+ *
+ * # Safety
+ * The arrays must hold the stated number of elements; `info_out` must point to a
+ * `UvfSnappedRepairInfo` with its `struct_size` set.
+ */
+enum UvfStatus uvf_snapped_repair(const double *positions,
+                                  size_t vertex_count,
+                                  const uint32_t *triangles,
+                                  size_t triangle_count,
+                                  uint32_t *vertex_out,
+                                  uint8_t *keep_out,
+                                  struct UvfSnappedRepairInfo *info_out);
 
 /**
  * Fills `options` with defaults (200 iterations, tolerance 1e-12, no callback).

@@ -177,6 +177,7 @@ C_TYPES = {
     "const uint32_t *": ctypes.POINTER(ctypes.c_uint32),
     "uint32_t *": ctypes.POINTER(ctypes.c_uint32),
     "const uint8_t *": ctypes.POINTER(ctypes.c_uint8),
+    "uint8_t *": ctypes.POINTER(ctypes.c_uint8),
     "size_t": ctypes.c_size_t,
     "double": ctypes.c_double,
     "uint32_t": ctypes.c_uint32,
@@ -212,7 +213,7 @@ C_RETURNS = {
 
 def test_every_header_function_is_declared_with_the_header_prototype():
     functions = header_functions()
-    assert len(functions) == 130, sorted(functions)
+    assert len(functions) == 131, sorted(functions)
     assert set(functions) == set(_library.PROTOTYPES)
     lib = uvflat.load_library(library_file())
     for name, (ret, params) in functions.items():
@@ -239,6 +240,7 @@ STRUCTS = {
     "UvfMeshInfo": _library.UvfMeshInfo,
     "UvfPolygonIslandsInfo": _library.UvfPolygonIslandsInfo,
     "UvfPackOptions": _library.UvfPackOptions,
+    "UvfSnappedRepairInfo": _library.UvfSnappedRepairInfo,
     "UvfPackReport": _library.UvfPackReport,
     "UvfFixedBoundaryOptions": _library.UvfFixedBoundaryOptions,
     "UvfNaturalConformalOptions": _library.UvfNaturalConformalOptions,
@@ -605,6 +607,37 @@ def test_triangle_components_label_each_connected_part():
     assert len(set(first)) == 1 and len(set(second)) == 1 and first[0] != second[0]
     assert set(components) == {0, 1}
     assert uvflat.mesh_info(positions, triangles).components == 2
+
+
+def test_snapped_repair_welds_snapped_vertices_and_the_repaired_mesh_solves():
+    p, t = load_mesh("disk_cat_head.obj")
+    snapped = p.copy()
+    # Snap five vertices onto a neighbour each (a modeller's snap without merge), pairs far apart.
+    movers, taken = [], set()
+    for a, b in t[:: max(1, len(t) // 7), :2]:
+        if len(movers) < 5 and not {int(a), int(b)} & taken:
+            movers.append((int(a), int(b)))
+            taken |= {int(a), int(b)}
+    for a, b in movers:
+        snapped[b] = snapped[a]
+    with pytest.raises(uvflat.InvalidMesh, match="degenerate"):
+        uvflat.mesh_info(snapped, t)
+    r = uvflat.snapped_repair(snapped, t)
+    assert r.welded == len(movers) and r.vertices == len(p) - len(movers) and r.unreferenced == 0
+    for a, b in movers:
+        assert r.vertex[a] == r.vertex[b]
+    # Left out: exactly the triangles holding both ends of a snapped pair (written out here).
+    holds_pair = np.array([any(a in tri and b in tri for a, b in movers) for tri in t])
+    assert (~r.keep == holds_pair).all() and r.left_out == holds_pair.sum()
+    first = np.unique(r.vertex, return_index=True)[1]
+    solved = uvflat.natural_conformal_map(snapped[first], r.vertex[t[r.keep]])
+    uv = solved[r.vertex]
+    assert np.isfinite(uv).all()
+    assert uvflat.check_layout(uv, t[r.keep]).flipped == 0
+    untouched = uvflat.snapped_repair(p, t)
+    assert (untouched.welded, untouched.left_out) == (0, 0) and untouched.keep.all()
+    with pytest.raises(uvflat.InvalidMesh):
+        uvflat.snapped_repair(p, t + len(p))
 
 
 # --- results equal the CLI's ------------------------------------------------------------------

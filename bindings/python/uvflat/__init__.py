@@ -42,6 +42,8 @@ from ._queries import (
     NOT_IN_AN_ISLAND,
     PolygonIslands,
     polygon_islands,
+    SnappedRepair,
+    snapped_repair,
     triangle_components,
 )
 from ._barycentric import (
@@ -305,6 +307,8 @@ __all__ = [
     "NOT_IN_AN_ISLAND",
     "PolygonIslands",
     "polygon_islands",
+    "SnappedRepair",
+    "snapped_repair",
     "PackedIslands",
     "pack_islands",
     "tutte",

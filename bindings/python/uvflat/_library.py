@@ -163,6 +163,18 @@ class UvfPolygonIslandsInfo(_Written):
     ]
 
 
+class UvfSnappedRepairInfo(_Written):
+    """``struct UvfSnappedRepairInfo``: what ``uvf_snapped_repair`` found."""
+
+    _fields_ = [
+        ("struct_size", c_size_t),
+        ("vertices", c_size_t),
+        ("welded", c_size_t),
+        ("left_out", c_size_t),
+        ("unreferenced", c_size_t),
+    ]
+
+
 class UvfPackOptions(Structure):
     """``struct UvfPackOptions``; fill with ``uvf_pack_options_default``."""
 
@@ -757,6 +769,10 @@ PROTOTYPES = {
     ),
     "uvf_triangle_components": (UvfStatus, [_f64p, c_size_t, _u32p, c_size_t, _u32p]),
     "uvf_pack_options_default": (None, [POINTER(UvfPackOptions)]),
+    "uvf_snapped_repair": (
+        UvfStatus,
+        [_f64p, c_size_t, _u32p, c_size_t, _u32p, _u8p, POINTER(UvfSnappedRepairInfo)],
+    ),
     "uvf_pack_islands": (
         UvfStatus,
         [_f64p, c_size_t, _u32p, c_size_t, _f64p, POINTER(UvfPackOptions), _f64p, _u32p, POINTER(UvfPackReport)],

@@ -108,6 +108,54 @@ def triangle_components(positions: ArrayLike, triangles: ArrayLike) -> np.ndarra
     return out
 
 
+@dataclasses.dataclass(frozen=True)
+class SnappedRepair:
+    """What to weld and leave out so that a mesh with zero-area triangles can be solved
+    (:func:`snapped_repair`)."""
+
+    #: ``(n,)`` uint32 solve vertex of every input vertex, numbered in order of their lowest
+    #: input vertex.
+    vertex: np.ndarray
+    #: ``(m,)`` bool, True for the triangles to solve.
+    keep: np.ndarray
+    #: Solve vertices.
+    vertices: int
+    #: Input vertices welded onto another.
+    welded: int
+    #: Triangles left out.
+    left_out: int
+    #: Solve vertices only left-out triangles use (a solve gives them no UV).
+    unreferenced: int
+
+
+def snapped_repair(positions: ArrayLike, triangles: ArrayLike) -> SnappedRepair:
+    """The welds and left-out triangles that make a mesh with zero-area triangles (vertices
+    snapped together but not merged, collinear corners) solvable (``uvf_snapped_repair``): in
+    every degenerate triangle, the ends of an edge shorter than 1e-6 of its longest are welded;
+    triangles still degenerate after welding are left out. Solve the kept triangles over
+    ``positions[first input vertex of each solve vertex]``; every input vertex takes its solve
+    vertex's UV. Raises :class:`InvalidMesh` for indices out of range or non-finite
+    coordinates of used vertices."""
+    p = _as_points(positions, 3, "positions")
+    t = _as_indices(triangles, "triangles", InvalidMesh)
+    vertex = np.empty(len(p), dtype=np.uint32)
+    keep = np.empty(len(t), dtype=np.uint8)
+    info = L.UvfSnappedRepairInfo()
+    _check(
+        L.library().uvf_snapped_repair(
+            _f64p(p), len(p), _u32p(t), len(t), _u32p(vertex), keep.ctypes.data_as(POINTER(ctypes.c_uint8)), byref(info)
+        )
+    )
+    return SnappedRepair(
+        vertex=vertex,
+        keep=keep.astype(bool),
+        vertices=int(info.vertices),
+        welded=int(info.welded),
+        left_out=int(info.left_out),
+        unreferenced=int(info.unreferenced),
+    )
+
+
 #: ``PolygonIslands.face_island`` of a face that is not selected, and
 #: ``PolygonIslands.corner_vertex`` of its corners (``UVF_NOT_IN_AN_ISLAND``).
 NOT_IN_AN_ISLAND = 0xFFFFFFFF

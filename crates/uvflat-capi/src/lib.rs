@@ -26,6 +26,7 @@ pub mod nonlinear;
 pub mod pack;
 pub mod pgp;
 pub mod quadcover;
+pub mod snapped;
 pub mod spectral;
 pub mod sphere;
 pub mod status;

@@ -12,6 +12,7 @@ pub(crate) mod fill;
 pub(crate) mod intrinsic_delaunay;
 pub mod islands;
 pub mod polygon;
+pub mod snapped;
 pub(crate) mod topology;
 pub(crate) mod unknowns;
 pub(crate) mod validate;
