@@ -1975,6 +1975,16 @@ typedef struct UvfUnwrapReport {
    * Fraction of the unit square covered by islands.
    */
   double utilization;
+  /**
+   * Input vertices welded onto another for the solve: snapped together but not merged
+   * (`uvf_unwrap` only; a mesh handle cannot hold them).
+   */
+  size_t welded_vertices;
+  /**
+   * Zero-area input triangles left out of the solve and the verification (`uvf_unwrap` only);
+   * each gets UVs of its vertices, of zero area where its corners were welded.
+   */
+  size_t left_out_triangles;
 } UvfUnwrapReport;
 
 #ifdef __cplusplus
@@ -3810,6 +3820,12 @@ void uvf_unwrap_options_default(struct UvfUnwrapOptions *options);
  * boundary, Jiang et al. 2017), and one over `max_stretch` is split in two (VSA on normals)
  * until every piece is valid under the bound; adjacent islands are merged back where still
  * valid, then all are packed into the unit square at one texel density.
+ *
+ * Zero-area triangles (vertices snapped together but not merged, collinear corners), which
+ * `uvf_mesh_info` and the methods refuse, are accepted here: in each, the ends of an edge
+ * shorter than 1e-6 of its longest are welded for the solve, and the triangles still of zero
+ * area are left out of the solve and the verification, each getting the UVs of its vertices
+ * (`uvf_snapped_repair`; the report counts both).
  *
  * The result is verified with an exact checker independent of the method: no flipped or
  * degenerate UV triangle, no overlap within or between islands, every UV finite and in

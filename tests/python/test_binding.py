@@ -634,6 +634,16 @@ def test_snapped_repair_welds_snapped_vertices_and_the_repaired_mesh_solves():
     uv = solved[r.vertex]
     assert np.isfinite(uv).all()
     assert uvflat.check_layout(uv, t[r.keep]).flipped == 0
+    # The default unwrap takes the snapped mesh as it is and does the same.
+    result = uvflat.unwrap(snapped, t)
+    assert (result.report.welded_vertices, result.report.left_out_triangles) == (len(movers), holds_pair.sum())
+    kept = result.triangles[~holds_pair]
+    check = uvflat.check_layout(result.uv, kept)
+    assert (check.flipped, check.overlaps) == (0, 0)
+    onto = np.arange(len(p))  # a welded pair maps back to its lower vertex
+    for a, b in movers:
+        onto[a] = onto[b] = min(a, b)
+    assert (result.original_vertices[result.triangles] == onto[t]).all()
     untouched = uvflat.snapped_repair(p, t)
     assert (untouched.welded, untouched.left_out) == (0, 0) and untouched.keep.all()
     with pytest.raises(uvflat.InvalidMesh):

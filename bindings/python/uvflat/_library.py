@@ -575,6 +575,8 @@ class UvfUnwrapReport(_Written):
         ("max_island_stretch", c_double),
         ("angle_error_mean_deg", c_double),
         ("utilization", c_double),
+        ("welded_vertices", c_size_t),
+        ("left_out_triangles", c_size_t),
     ]
 
 

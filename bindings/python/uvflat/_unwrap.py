@@ -41,6 +41,10 @@ class UnwrapReport:
     angle_error_mean_deg: float
     #: Fraction of the unit square covered by islands.
     utilization: float
+    #: Input vertices welded onto another for the solve (snapped together but not merged).
+    welded_vertices: int = 0
+    #: Zero-area input triangles left out of the solve and the verification.
+    left_out_triangles: int = 0
 
 
 @dataclasses.dataclass(frozen=True)

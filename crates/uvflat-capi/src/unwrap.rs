@@ -7,12 +7,14 @@ use super::atlas::{UVF_ATLAS_CHART_SLIM, UVF_ATLAS_CHART_STRETCH};
 use super::status::UvfStatus;
 use super::MeshSource;
 use super::SizedOut;
-use super::{borrow_slice_mut, copy_out, guard, progress_closure, read_options, UvfProgressFn};
+use super::{
+    borrow_slice, borrow_slice_mut, checked_count, copy_out, guard, progress_closure, read_options, UvfProgressFn,
+};
 use std::os::raw::c_void;
 use uvflat_core::atlas::ChartMethod;
 use uvflat_core::error::{Error, Result};
 use uvflat_core::progress::Progress;
-use uvflat_core::unwrap::{unwrap_with_progress, UnwrapOptions, UnwrapReport};
+use uvflat_core::unwrap::{unwrap_arrays, unwrap_with_progress, UnwrapOptions, UnwrapReport};
 
 /// Options of `uvf_unwrap`. Initialise with `uvf_unwrap_options_default`.
 #[repr(C)]
@@ -83,6 +85,12 @@ pub struct UvfUnwrapReport {
     pub angle_error_mean_deg: f64,
     /// Fraction of the unit square covered by islands.
     pub utilization: f64,
+    /// Input vertices welded onto another for the solve: snapped together but not merged
+    /// (`uvf_unwrap` only; a mesh handle cannot hold them).
+    pub welded_vertices: usize,
+    /// Zero-area input triangles left out of the solve and the verification (`uvf_unwrap` only);
+    /// each gets UVs of its vertices, of zero area where its corners were welded.
+    pub left_out_triangles: usize,
 }
 
 /// The result of `uvf_unwrap`: released with `uvf_unwrap_free`.
@@ -128,6 +136,8 @@ fn report_of(r: &UnwrapReport, uv_vertex_count: usize) -> UvfUnwrapReport {
         max_island_stretch: r.max_island_stretch,
         angle_error_mean_deg: r.angle_error_mean_deg,
         utilization: r.utilization,
+        welded_vertices: r.welded_vertices,
+        left_out_triangles: r.left_out_triangles,
     }
 }
 
@@ -138,6 +148,12 @@ fn report_of(r: &UnwrapReport, uv_vertex_count: usize) -> UvfUnwrapReport {
 /// boundary, Jiang et al. 2017), and one over `max_stretch` is split in two (VSA on normals)
 /// until every piece is valid under the bound; adjacent islands are merged back where still
 /// valid, then all are packed into the unit square at one texel density.
+///
+/// Zero-area triangles (vertices snapped together but not merged, collinear corners), which
+/// `uvf_mesh_info` and the methods refuse, are accepted here: in each, the ends of an edge
+/// shorter than 1e-6 of its longest are welded for the solve, and the triangles still of zero
+/// area are left out of the solve and the verification, each getting the UVs of its vertices
+/// (`uvf_snapped_repair`; the report counts both).
 ///
 /// The result is verified with an exact checker independent of the method: no flipped or
 /// degenerate UV triangle, no overlap within or between islands, every UV finite and in
@@ -194,9 +210,17 @@ unsafe fn unwrap_from(
             iterations: o.iterations as usize,
             rotate: o.rotate != 0,
         };
-        let mesh = unsafe { source.mesh() }?;
         let mut callback = progress_closure(o.progress, o.progress_user);
-        let result = unwrap_with_progress(&mesh, &options, &mut Progress::new(&mut callback))?;
+        let mut progress = Progress::new(&mut callback);
+        let result = match source {
+            // Flat arrays may hold zero-area triangles (snapped vertices): welded for the solve.
+            MeshSource::Arrays { positions, vertex_count, triangles, triangle_count } => {
+                let p = borrow_slice(positions, checked_count(vertex_count, 3, "vertex")?, "positions")?;
+                let t = borrow_slice(triangles, checked_count(triangle_count, 3, "triangle")?, "triangles")?;
+                unwrap_arrays(p, t, &options, &mut progress)?
+            }
+            MeshSource::Handle(_) => unwrap_with_progress(&*unsafe { source.mesh() }?, &options, &mut progress)?,
+        };
         let report = report_of(&result.report, result.atlas.uv.len());
         let seams = result.seams.iter().flatten().copied().collect();
         out[0] = Box::into_raw(Box::new(UvfUnwrap { layout: UvfAtlas::new(result.atlas), seams, report }));

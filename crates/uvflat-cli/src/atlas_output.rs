@@ -68,7 +68,7 @@ pub(crate) fn unwrap_atlas(args: &UnwrapArgs) -> Result<(), Failure> {
     let start = Instant::now();
     let result = atlas(&mesh, &options)?;
     let seconds = start.elapsed().as_secs_f64();
-    report_atlas(args, &obj, &mesh, &result, seconds, None)
+    report_atlas(args, &obj, Some(&mesh), &result, seconds, None)
 }
 
 /// Writes an atlas (per-corner UVs) and prints its figures: charts, utilization, seam ratio,
@@ -76,7 +76,7 @@ pub(crate) fn unwrap_atlas(args: &UnwrapArgs) -> Result<(), Failure> {
 pub(crate) fn report_atlas(
     args: &UnwrapArgs,
     obj: &ObjMesh,
-    mesh: &TriMesh,
+    mesh: Option<&TriMesh>,
     atlas: &Atlas,
     seconds: f64,
     unwrapped: Option<&UnwrapReport>,
@@ -86,15 +86,25 @@ pub(crate) fn report_atlas(
     if let Some(svg) = &args.svg {
         write_uv_svg(svg, &atlas.uv, &atlas.triangles)?;
     }
-    let metrics = distortion(mesh.points(), mesh.triangles(), &atlas.uv, &atlas.triangles)?;
-    let (seam, total) = (atlas_seam_length(mesh, atlas), total_edge_length(mesh));
+    // Without a mesh (zero-area triangles welded for the solve), the input's own arrays.
+    let (seam, total) = match mesh {
+        Some(mesh) => (atlas_seam_length(mesh, atlas), total_edge_length(mesh)),
+        None => seam_and_total_length(&obj.positions, &obj.triangles, atlas),
+    };
+    let points: Vec<[f64; 3]> = obj.positions.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let triangles: Vec<[u32; 3]> = obj.triangles.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let metrics = match mesh {
+        Some(mesh) => distortion(mesh.points(), mesh.triangles(), &atlas.uv, &atlas.triangles)?,
+        None => distortion(&points, &triangles, &atlas.uv, &atlas.triangles)?,
+    };
+    let (vertex_count, triangle_count) = (points.len(), triangles.len());
     let label = if unwrapped.is_some() { "default" } else { method_label(args.method()) };
     if args.json {
         let mut object = serde_json::json!({
             "method": label,
             "mode": if unwrapped.is_some() { "unwrap" } else { "atlas" },
             "seconds": seconds,
-            "vertices": mesh.vertex_count(),
+            "vertices": vertex_count,
             "output": args.output.display().to_string(),
             "charts": atlas.charts.len(),
             "utilization": atlas.utilization,
@@ -111,6 +121,8 @@ pub(crate) fn report_atlas(
                     "seam_edges": r.seam_edges,
                     "overlaps": r.overlaps,
                     "max_island_stretch": r.max_island_stretch,
+                    "welded_vertices": r.welded_vertices,
+                    "left_out_triangles": r.left_out_triangles,
                 }),
             );
         }
@@ -120,8 +132,8 @@ pub(crate) fn report_atlas(
         println!(
             "{label}{}: {} vertices, {} triangles, {:.3} s -> {}",
             if unwrapped.is_some() { " unwrap" } else { " (atlas)" },
-            mesh.vertex_count(),
-            mesh.triangle_count(),
+            vertex_count,
+            triangle_count,
             seconds,
             args.output.display()
         );
@@ -131,6 +143,12 @@ pub(crate) fn report_atlas(
                 r.islands, r.repaired_islands
             );
             println!("  verified                {} flipped, {} overlaps", r.flipped, r.overlaps);
+            if r.left_out_triangles > 0 {
+                println!(
+                    "  zero-area triangles     {} left out of the solve ({} snapped vertices welded)",
+                    r.left_out_triangles, r.welded_vertices
+                );
+            }
             println!("  largest island L2       {:.4}", r.max_island_stretch);
         } else {
             println!("  charts                  {}", atlas.charts.len());
@@ -140,6 +158,29 @@ pub(crate) fn report_atlas(
         print_metrics_text(&metrics);
     }
     Ok(())
+}
+
+/// (Seam length, total edge length) from flat arrays: edges (vertex pairs) whose uses do not all
+/// have the same two UV vertices, and all edges; for meshes `TriMesh` refuses.
+fn seam_and_total_length(positions: &[f64], triangles: &[u32], atlas: &Atlas) -> (f64, f64) {
+    let mut uses: std::collections::HashMap<[u32; 2], Vec<[u32; 2]>> = std::collections::HashMap::new();
+    for (t, corners) in triangles.chunks_exact(3).zip(&atlas.triangles) {
+        for k in 0..3 {
+            let (a, b, ua, ub) = (t[k], t[(k + 1) % 3], corners[k], corners[(k + 1) % 3]);
+            let (key, uv) = if a < b { ([a, b], [ua, ub]) } else { ([b, a], [ub, ua]) };
+            uses.entry(key).or_default().push(uv);
+        }
+    }
+    let length = |[a, b]: [u32; 2]| {
+        let (p, q) = (&positions[3 * a as usize..3 * a as usize + 3], &positions[3 * b as usize..3 * b as usize + 3]);
+        ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+    };
+    let mut edges: Vec<_> = uses.into_iter().collect();
+    edges.sort_unstable_by_key(|e| e.0);
+    let seam =
+        edges.iter().filter(|(_, uv)| uv.iter().any(|x| x != &uv[0])).map(|e| length(e.0)).fold(0.0, |a, b| a + b);
+    let total = edges.iter().map(|e| length(e.0)).fold(0.0, |a, b| a + b);
+    (seam, total)
 }
 
 /// Total 3D length of the input edges whose two sides have different UV vertices.

@@ -9,12 +9,13 @@ use crate::methods::method_label;
 use crate::metrics::{merge, metrics_json, print_metrics_text};
 use crate::named_method::{run_method, unwrap_cone_map};
 use crate::unwrap_args::{check_option_combination, CutMode, UnwrapArgs};
+use uvflat_core::error::Error;
 use uvflat_core::io::obj::{read_obj_geometry, write_obj_with_corner_uv, write_obj_with_uv, ObjMesh};
 use uvflat_core::io::svg::write_uv_svg;
 use uvflat_core::mesh::cut::{cut_to_disk, total_edge_length, EdgeCost};
 use uvflat_core::metrics::{distortion, Metrics};
 use uvflat_core::progress::Progress;
-use uvflat_core::unwrap::{unwrap_with_progress, UnwrapOptions};
+use uvflat_core::unwrap::{unwrap_arrays, unwrap_with_progress, UnwrapOptions};
 use uvflat_core::verify::check_layout;
 use uvflat_core::TriMesh;
 
@@ -29,8 +30,16 @@ pub(crate) fn unwrap(args: &UnwrapArgs) -> Result<(), Failure> {
     }
     let obj = read_obj_geometry(&args.input)?;
     let start = Instant::now();
-    let mesh = TriMesh::new(&obj.positions, &obj.triangles)
-        .map_err(|e| Failure { message: format!("{}: {e}", args.input.display()), usage: false })?;
+    let default_unwrap =
+        args.cones.is_empty() && !args.auto_cones && args.method.is_none() && args.cut != Some(CutMode::None);
+    let mesh = match TriMesh::new(&obj.positions, &obj.triangles) {
+        Ok(mesh) => mesh,
+        // Zero-area triangles (snapped vertices): the default unwrap welds them for the solve.
+        Err(Error::DegenerateTriangle { .. } | Error::RepeatedVertex { .. }) if default_unwrap => {
+            return unwrap_default_snapped(args, &obj, start);
+        }
+        Err(e) => return Err(Failure { message: format!("{}: {e}", args.input.display()), usage: false }),
+    };
     if !args.cones.is_empty() || args.auto_cones {
         return unwrap_cone_map(args, &obj, &mesh, start);
     }
@@ -151,18 +160,33 @@ pub(crate) fn warn_if_unusable(method: &str, metrics: &Metrics, overlaps: usize)
 
 /// The default unwrap: the library's whole pipeline (valid by construction and verified).
 pub(crate) fn unwrap_default(args: &UnwrapArgs, obj: &ObjMesh, mesh: &TriMesh, start: Instant) -> Result<(), Failure> {
+    let options = default_options(args)?;
+    let result = unwrap_with_progress(mesh, &options, &mut Progress::none())?;
+    let seconds = start.elapsed().as_secs_f64();
+    report_atlas(args, obj, Some(mesh), &result.atlas, seconds, Some(&result.report))
+}
+
+/// The default unwrap's options from the command line.
+fn default_options(args: &UnwrapArgs) -> Result<UnwrapOptions, Failure> {
     if !args.pins.is_empty() {
         return Err(usage("--pin applies to --method natural-conformal, abf and abf++ only"));
     }
     let defaults = UnwrapOptions::default();
-    let options = UnwrapOptions {
+    Ok(UnwrapOptions {
         max_stretch: args.max_stretch.unwrap_or(defaults.max_stretch),
         margin: args.margin.unwrap_or(defaults.margin),
         iterations: args.iterations.unwrap_or(defaults.iterations),
         rotate: !args.no_rotate,
         ..defaults
-    };
-    let result = unwrap_with_progress(mesh, &options, &mut Progress::none())?;
+    })
+}
+
+/// The default unwrap of a mesh with zero-area triangles, which `TriMesh` refuses: snapped
+/// vertices welded and zero-area triangles left out of the solve (`unwrap_arrays`).
+fn unwrap_default_snapped(args: &UnwrapArgs, obj: &ObjMesh, start: Instant) -> Result<(), Failure> {
+    let options = default_options(args)?;
+    let result = unwrap_arrays(&obj.positions, &obj.triangles, &options, &mut Progress::none())
+        .map_err(|e| Failure { message: format!("{}: {e}", args.input.display()), usage: false })?;
     let seconds = start.elapsed().as_secs_f64();
-    report_atlas(args, obj, mesh, &result.atlas, seconds, Some(&result.report))
+    report_atlas(args, obj, None, &result.atlas, seconds, Some(&result.report))
 }

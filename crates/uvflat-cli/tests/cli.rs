@@ -241,6 +241,27 @@ fn bad_meshes_print_the_library_message_and_exit_1() {
     assert!(stderr(&o).contains("/nonexistent/mesh.obj"), "{}", stderr(&o));
 }
 
+/// `bad_degenerate_faces.obj` (a face with a repeated corner, zero-area faces): the default
+/// unwrap welds and leaves them out and says so; a named method still refuses the mesh.
+#[test]
+fn the_default_unwrap_leaves_zero_area_faces_out_and_a_named_method_refuses_them() {
+    let input = format!("{MESHES}/bad_degenerate_faces.obj.gz");
+    let out = scratch("degenerate.obj");
+    let report = json(&uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--json"]));
+    let left_out = report["left_out_triangles"].as_u64().unwrap();
+    assert!(left_out >= 1, "{report}");
+    assert_eq!(report["flipped"].as_u64(), Some(0), "{report}");
+    assert_eq!(report["overlaps"].as_u64(), Some(0), "{report}");
+    // The only zero-area UV triangles are the left-out ones (a welded corner pair shares a UV).
+    assert!(report["degenerate_uv"].as_u64().unwrap() <= left_out, "{report}");
+    assert_eq!(report["triangles"].as_u64(), Some(131), "every input face written");
+    let text = uvflat(&["unwrap", &input, "-o", out.to_str().unwrap()]);
+    assert!(stdout(&text).contains("left out of the solve"), "{}", stdout(&text));
+    let named = uvflat(&["unwrap", &input, "-o", out.to_str().unwrap(), "--method", "natural-conformal"]);
+    assert_eq!(named.status.code(), Some(1));
+    assert!(stderr(&named).contains("more than once"), "{}", stderr(&named));
+}
+
 #[test]
 fn circle_patterns_flip_to_intrinsic_delaunay_unless_told_not_to() {
     let out = scratch("cp.obj");

@@ -69,7 +69,8 @@ pub fn snapped_repair(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Sna
     for v in (0..points.len()).rev() {
         position[vertex[v] as usize] = points[v];
     }
-    let keep: Vec<bool> = triangles.iter().map(|t| !degenerate(&t.map(|v| vertex[v as usize]), &|w| position[w as usize])).collect();
+    let keep: Vec<bool> =
+        triangles.iter().map(|t| !degenerate(&t.map(|v| vertex[v as usize]), &|w| position[w as usize])).collect();
     let mut used = vec![0u8; vertex_count];
     for (t, &k) in triangles.iter().zip(&keep) {
         for &v in t {

@@ -436,3 +436,71 @@ fn every_chart_method_and_the_isometric_bound_give_an_atlas() {
         assert!(result.charts.iter().all(|c| c.stretch_l2 <= options.max_stretch * (1.0 + 1e-9)), "{options:?}");
     }
 }
+
+/// Vertices snapped onto a neighbour but not merged (what a modeller's snap leaves), which
+/// `TriMesh::new` refuses: `unwrap_arrays` welds each pair, leaves out exactly the triangles
+/// holding both ends of a pair (found here from the input), and the rest of the layout is
+/// valid by this file's own checks; every corner's UV vertex maps back to its input vertex or
+/// to the vertex it was snapped onto.
+#[test]
+fn snapped_vertices_are_welded_and_the_rest_of_the_unwrap_is_valid() {
+    for file in ["disk_cat_head.obj", "closed_g1_bob.obj"] {
+        let mesh = load(file);
+        let mut positions: Vec<f64> = mesh.points().iter().flatten().copied().collect();
+        let triangles: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        let step = (mesh.triangle_count() / 7).max(1);
+        for t in mesh.triangles().iter().step_by(step) {
+            let (a, b) = (t[0].min(t[1]), t[0].max(t[1]));
+            if pairs.len() < 5 && pairs.iter().all(|&(x, y)| ![x, y].contains(&a) && ![x, y].contains(&b)) {
+                pairs.push((a, b));
+            }
+        }
+        for &(a, b) in &pairs {
+            for k in 0..3 {
+                positions[3 * b as usize + k] = positions[3 * a as usize + k];
+            }
+        }
+        assert!(TriMesh::new(&positions, &triangles).is_err(), "{file}: snapping must make degenerate triangles");
+        let result = uvflat_core::unwrap::unwrap_arrays(
+            &positions,
+            &triangles,
+            &UnwrapOptions::default(),
+            &mut uvflat_core::progress::Progress::none(),
+        )
+        .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let holds_pair: Vec<bool> =
+            mesh.triangles().iter().map(|t| pairs.iter().any(|&(a, b)| t.contains(&a) && t.contains(&b))).collect();
+        let report = &result.report;
+        assert_eq!(report.welded_vertices, pairs.len(), "{file}");
+        assert_eq!(report.left_out_triangles, holds_pair.iter().filter(|&&h| h).count(), "{file}");
+        let a = &result.atlas;
+        assert_eq!(a.triangles.len(), mesh.triangle_count());
+        let snapped_onto = |v: u32| pairs.iter().find(|p| p.1 == v).map_or(v, |p| p.0);
+        for (t, corners) in mesh.triangles().iter().zip(&a.triangles) {
+            for (&v, &uv) in t.iter().zip(corners) {
+                assert_eq!(a.original[uv as usize], snapped_onto(v), "{file}: corner of vertex {v}");
+            }
+        }
+        let kept: Vec<usize> = (0..holds_pair.len()).filter(|&t| !holds_pair[t]).collect();
+        let solved = Atlas {
+            triangles: kept.iter().map(|&t| a.triangles[t]).collect(),
+            chart_of_triangle: kept.iter().map(|&t| a.chart_of_triangle[t]).collect(),
+            ..a.clone()
+        };
+        assert_eq!(flipped(&solved), 0, "{file}");
+        assert_eq!(overlapping_pairs(&solved), (0, 0), "{file}");
+        assert!(a.uv.iter().flatten().all(|x| (0.0..=1.0).contains(x)), "{file}");
+        // A left-out triangle's two welded corners share one UV vertex.
+        for (t, corners) in mesh
+            .triangles()
+            .iter()
+            .zip(&a.triangles)
+            .filter(|(t, _)| pairs.iter().any(|&(x, y)| t.contains(&x) && t.contains(&y)))
+        {
+            let &(x, y) = pairs.iter().find(|&&(x, y)| t.contains(&x) && t.contains(&y)).unwrap();
+            let at = |v: u32| corners[t.iter().position(|&w| w == v).unwrap()];
+            assert_eq!(at(x), at(y), "{file}: {t:?}");
+        }
+    }
+}

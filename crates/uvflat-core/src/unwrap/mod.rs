@@ -23,6 +23,10 @@
 //! 6. **Verify** the packed layout with the independent checker (`verify`: exact predicates,
 //!    nothing of the method's bookkeeping); a layout that fails is an error, never a result.
 //!
+//! Zero-area triangles (vertices snapped together but not merged), which `TriMesh` refuses, are
+//! handled by [`unwrap_arrays`]: snapped vertices welded, zero-area triangles left out of the
+//! solve ([`snapped`]).
+//!
 //! With the stretch bound off (`max_stretch = ∞`) no island is split for stretch: every
 //! component stays one island unless it cannot be made valid at all (what an artist's seams ask
 //! for: the input's own seam-bounded regions stay whole).
@@ -30,6 +34,10 @@
 //! Stages 1–5 are the atlas's (`atlas`), run with the repair on and without the L2 polish (the
 //! default keeps the method's angles: no island is silently traded from conformal to
 //! stretch-minimizing, except the repaired ones, which the report counts).
+
+mod snapped;
+
+pub use snapped::unwrap_arrays;
 
 use crate::atlas::{atlas_with_progress, Atlas, AtlasOptions, ChartMethod};
 use crate::error::{Error, Result};
@@ -86,6 +94,12 @@ pub struct UnwrapReport {
     pub angle_error_mean_deg: f64,
     /// Fraction of the unit square covered by islands.
     pub utilization: f64,
+    /// Input vertices welded onto another for the solve (snapped together but not merged;
+    /// [`unwrap_arrays`] only).
+    pub welded_vertices: usize,
+    /// Zero-area input triangles left out of the solve and the verification ([`unwrap_arrays`]
+    /// only).
+    pub left_out_triangles: usize,
 }
 
 /// The result of [`unwrap`].
@@ -154,6 +168,8 @@ pub fn unwrap_with_progress(mesh: &TriMesh, options: &UnwrapOptions, progress: &
         max_island_stretch: atlas.charts.iter().map(|c| c.stretch_l2).fold(0.0, f64::max),
         angle_error_mean_deg: angle_error.to_degrees(),
         utilization: atlas.utilization,
+        welded_vertices: 0,
+        left_out_triangles: 0,
     };
     Ok(Unwrapped { atlas, seams, report })
 }
