@@ -19,3 +19,4 @@ pub mod pgp;
 pub mod quadcover;
 pub mod spectral_conformal;
 pub mod sphere;
+pub(crate) mod sphere_geometry;

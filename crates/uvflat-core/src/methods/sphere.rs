@@ -52,10 +52,12 @@
 
 use crate::boundary::{BoundaryShape, Distribution};
 use crate::error::{Error, Result};
-use crate::geometry::{cross, dot, norm, norm2, sub};
+use crate::geometry::{norm, norm2, sub};
 use crate::mesh::{TriMesh, NONE};
 use crate::methods::barycentric::{fixed_boundary_map, FixedBoundaryOptions, Weights};
 use crate::methods::circle_patterns::circle_pattern_sphere_map;
+pub use crate::methods::sphere_geometry::count_spherical_flips;
+use crate::methods::sphere_geometry::{det, inverse_stereographic, without_triangles};
 use crate::progress::Progress;
 
 /// Spherical parameterization method.
@@ -139,25 +141,6 @@ pub fn spherical_map_with_progress(
     orient_outward(mesh, &mut positions);
     let flipped = count_spherical_flips(&positions, mesh.triangles());
     Ok(SphereMap { positions, flipped })
-}
-
-/// `det[a, b, c] = a · (b × c)`, evaluated as `a · ((b − a) × (c − a))` (the same value: the
-/// dropped terms are `a · (a × ·) = 0`), whose differences keep their accuracy for the tiny
-/// triangles where `a · (b × c)` cancels catastrophically.
-#[inline]
-fn det(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
-    dot(a, cross(sub(b, a), sub(c, a)))
-}
-
-/// Triangles whose spherical orientation `det[p0, p1, p2]` is not positive (or not finite).
-pub fn count_spherical_flips(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> usize {
-    triangles
-        .iter()
-        .filter(|t| {
-            let d = det(positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize]);
-            !(d > 0.0)
-        })
-        .count()
 }
 
 /// Mirrors the map (z → −z) when the determinants sum to a negative value.
@@ -260,14 +243,6 @@ fn gauss_seidel(mesh: &TriMesh, sweeps: usize, progress: &mut Progress) -> Resul
     Ok(x)
 }
 
-/// The mesh without the triangles listed in `removed` (same vertex numbering).
-pub(crate) fn without_triangles(mesh: &TriMesh, removed: impl Fn(usize) -> bool) -> Result<TriMesh> {
-    let positions: Vec<f64> = mesh.points().iter().flatten().copied().collect();
-    let triangles: Vec<u32> =
-        mesh.triangles().iter().enumerate().filter(|&(t, _)| !removed(t)).flat_map(|(_, t)| *t).collect();
-    TriMesh::new(&positions, &triangles)
-}
-
 /// Vertex of highest degree (a large link gives a rounder polygon and a smaller pole cap).
 fn highest_degree_vertex(mesh: &TriMesh) -> u32 {
     let mut degree = vec![0u32; mesh.vertex_count()];
@@ -277,13 +252,6 @@ fn highest_degree_vertex(mesh: &TriMesh) -> u32 {
         }
     }
     (0..mesh.vertex_count() as u32).max_by_key(|&v| (degree[v as usize], std::cmp::Reverse(v))).unwrap_or(0)
-}
-
-/// Inverse stereographic projection of the plane onto the unit sphere, ∞ at the south pole:
-/// `(x, y) ↦ (2x, 2y, 1 − r²) / (1 + r²)`.
-pub(crate) fn inverse_stereographic(x: f64, y: f64) -> [f64; 3] {
-    let r2 = x * x + y * y;
-    [2.0 * x / (1.0 + r2), 2.0 * y / (1.0 + r2), (1.0 - r2) / (1.0 + r2)]
 }
 
 /// Haker et al. 2000: harmonic map of the mesh minus one triangle, then inverse stereographic

@@ -29,14 +29,14 @@
 //! positively oriented triangles around the pole; the disk's triangles keep the planar
 //! pattern's orientation under the (orientation-preserving, circle-preserving) projection
 //! as long as no circumcircle's image covers more than a hemisphere. Flips are counted by the
-//! caller ([`crate::methods::sphere`]).
+//! caller ([`crate::methods::sphere`]; the shared spherical geometry is in `methods::sphere_geometry`).
 //!
 //! Cost: that of the planar pattern on V − 1 vertices plus O(V) per balancing iteration.
 
 use super::{circle_pattern_map, CirclePatternOptions, CirclePatternReport};
 use crate::error::{Error, Result};
 use crate::mesh::TriMesh;
-use crate::methods::sphere::{inverse_stereographic, without_triangles};
+use crate::methods::sphere_geometry::{inverse_stereographic, without_triangles};
 use crate::progress::Progress;
 use std::f64::consts::{PI, TAU};
 
@@ -345,7 +345,7 @@ mod tests {
             assert_eq!(mesh.vertex_count(), 6 * n * n + 2);
             let s = sphere_of(&mesh);
             assert!(s.iter().all(|p| (crate::geometry::norm(*p) - 1.0).abs() < 1e-9), "n = {n}");
-            let flipped = crate::methods::sphere::count_spherical_flips(&s, mesh.triangles());
+            let flipped = crate::methods::sphere_geometry::count_spherical_flips(&s, mesh.triangles());
             // Not yet oriented outward: all triangles one way.
             assert!(flipped == 0 || flipped == mesh.triangle_count(), "n = {n}: {flipped} flipped");
         }
