@@ -191,7 +191,10 @@ def without_degenerate(uvflat: Any, island: Island) -> Island:
     the UVs of their vertices). The island is returned unchanged when it has none, or when a
     vertex would be left in no triangle (the solve would give it no UV; the library's refusal
     then names the face)."""
-    repair = uvflat.snapped_repair(island.positions, island.triangles)
+    try:
+        repair = uvflat.snapped_repair(island.positions, island.triangles)
+    except uvflat.Error:
+        return island  # (a non-finite coordinate: the solve refuses the island and names it)
     if repair.left_out == 0 or repair.unreferenced > 0 or not repair.keep.any():
         return island
     vertex = repair.vertex.astype(np.int64)

@@ -224,7 +224,7 @@ class UnwrapRun:
         tri_loops = _get(me.loop_triangles, "loops", np.int32, len(me.loop_triangles), 3)
         # Checked once for the whole mesh, so that islands are only searched when it has any.
         corners = loop_vertex[tri_loops].reshape(-1, 3)
-        self.has_degenerate.append(bool(len(corners)) and self.uvflat.snapped_repair(positions, corners).left_out > 0)
+        self.has_degenerate.append(bool(len(corners)) and self._has_zero_area(positions, corners))
         split = isl.split_islands(
             self.uvflat,
             positions,
@@ -255,6 +255,14 @@ class UnwrapRun:
         self.jobs.extend(_Job.of(k, island, uv, pinned) for island in split.islands)
         self.non_manifold_edges += split.non_manifold_edges
         self.misoriented_edges += split.misoriented_edges
+
+    def _has_zero_area(self, positions: np.ndarray, corners: np.ndarray) -> bool:
+        """Whether the mesh has zero-area triangles (True also when the library cannot tell, a
+        non-finite coordinate: the islands are then checked one by one)."""
+        try:
+            return self.uvflat.snapped_repair(positions, corners).left_out > 0
+        except self.uvflat.Error:
+            return True
 
     # --- solve (any thread) ------------------------------------------------------------------
 
@@ -767,7 +775,7 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
     pack: BoolProperty(  # type: ignore[valid-type]
         name="Pack Islands", default=False, description="Pack the islands with Blender's Pack Islands afterwards"
     )
-    margin: FloatProperty(name="Margin", default=0.001, min=0.0, max=1.0, precision=3)  # type: ignore[valid-type]
+    margin: FloatProperty(name="Margin", default=0.001, min=0.0, max=0.49, precision=3)  # type: ignore[valid-type]
 
     @classmethod
     def poll(cls, context: bpy.types.Context) -> bool:
@@ -869,8 +877,8 @@ class UVFLAT_OT_unwrap(bpy.types.Operator):
         """What is wrong with the settings a script can set beyond the panel's limits, or None."""
         if self.method == "INTRINSIC" and not self.lambda_ + self.mu > 0:
             return "λ and μ cannot both be 0 (the Intrinsic weights would all vanish)"
-        if not 0 <= self.margin <= 1:
-            return f"margin must be between 0 and 1 (got {self.margin})"
+        if not 0 <= self.margin < 0.5:
+            return f"margin must be at least 0 and below 0.5 (got {self.margin})"
         return None
 
     def _finish(self, context: bpy.types.Context, run: "UnwrapRun") -> set:

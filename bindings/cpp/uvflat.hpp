@@ -418,6 +418,11 @@ inline PolygonIslands polygon_islands(View<std::uint32_t> corner_vertices, std::
                                       View<std::uint32_t> face_sizes = {}, View<std::uint8_t> selected = {},
                                       View<std::uint8_t> seams = {}) {
     const std::size_t faces = face_sizes.empty() ? corner_vertices.size() / 3 : face_sizes.size();
+    if (!selected.empty() && selected.size() != faces)
+        throw Error(UVF_INVALID_ARGUMENT, "selected must be empty or hold one flag per face (" + std::to_string(faces) + ")");
+    if (!seams.empty() && seams.size() != corner_vertices.size())
+        throw Error(UVF_INVALID_ARGUMENT,
+                    "seams must be empty or hold one flag per corner (" + std::to_string(corner_vertices.size()) + ")");
     PolygonIslands out{std::vector<std::uint32_t>(faces), std::vector<std::uint32_t>(corner_vertices.size()), {}};
     out.info.struct_size = sizeof out.info;
     detail::check(uvf_polygon_islands(corner_vertices.data(), corner_vertices.size(), vertex_count,
@@ -443,6 +448,8 @@ struct PackedIslands {
 inline PackedIslands pack_islands(View<double> uv, View<std::uint32_t> uv_triangles, View<double> surface_areas = {},
                                   double margin = 0.005, bool rotate = true) {
     const std::size_t nt = detail::count_of(uv_triangles, "uv_triangles");
+    if (!surface_areas.empty() && surface_areas.size() != nt)
+        throw Error(UVF_INVALID_ARGUMENT, "surface_areas must be empty or hold one area per triangle (" + std::to_string(nt) + ")");
     UvfPackOptions o;
     uvf_pack_options_default(&o);
     o.margin = margin;

@@ -543,6 +543,12 @@ def test_polygon_islands_match_a_plain_reference_on_a_real_mesh_with_random_seam
     assert (np.diff(island_of_vertex) >= 0).all()
 
 
+def test_polygon_islands_of_a_mesh_without_faces_are_none():
+    # (An edges-only object in Blender's multi-object Edit Mode.)
+    found = uvflat.polygon_islands(np.zeros(0, dtype=np.uint32), np.zeros(0, dtype=np.uint32), vertex_count=4)
+    assert (found.islands, found.island_vertices, len(found.face_island)) == (0, 0, 0)
+
+
 def test_polygon_islands_refuse_bad_input():
     with pytest.raises(uvflat.InvalidArgument, match="vertices"):
         uvflat.polygon_islands([0, 1, 2, 3], [4], vertex_count=3)

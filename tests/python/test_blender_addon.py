@@ -1096,6 +1096,22 @@ def test_multi_object_edit_mode():
     assert pair is None, f"islands {pair} overlap"
 
 
+def test_an_object_without_faces_next_to_a_grid_is_passed_over():
+    """Multi-object Edit Mode with an edges-only object: the grid is unwrapped, the wire object
+    has no islands and stops nothing."""
+    obj = grid(4)
+    wire = bpy.data.meshes.new("wire")
+    wire.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0)], [(0, 1), (1, 2)], [])
+    wire.update()
+    wire_obj = bpy.data.objects.new("wire", wire)
+    bpy.context.scene.collection.objects.link(wire_obj)
+    edit([obj, wire_obj], lambda o: np.ones(len(o.data.polygons), bool))
+    summary = run()
+    assert summary["islands"] == 1 and summary["faces"] == 16, summary
+    data = read(obj)
+    assert_no_flips(data, uv_islands(data, np.arange(len(obj.data.polygons))))
+
+
 def test_undo():
     """Ctrl Z after the operator restores the UVs, and redo brings the unwrap back. bpy's
     background mode has an undo stack but `ed.undo` polls False without a window and area in the

@@ -586,6 +586,11 @@ void check_islands_and_packing(const Arrays &a) {
     expect(std::abs(ratio(0) - ratio(n)) < 1e-9, "both copies keep their shape");
     expect_error(UVF_INVALID_ARGUMENT, "a vertex past vertex_count", [&] { uvflat::polygon_islands(corners, a.vertex_count()); });
     expect_error(UVF_INVALID_ARGUMENT, "margin 0.5", [&] { uvflat::pack_islands(both, corners, {}, 0.5); });
+    const std::vector<double> one_area{1.0};
+    expect_error(UVF_INVALID_ARGUMENT, "one surface area for many triangles", [&] { uvflat::pack_islands(both, corners, one_area); });
+    const std::vector<std::uint8_t> one_flag{1};
+    expect_error(UVF_INVALID_ARGUMENT, "one seam flag for many corners",
+                 [&] { uvflat::polygon_islands(corners, 2 * a.vertex_count(), {}, {}, one_flag); });
 }
 
 double max_difference(const std::vector<double> &x, const std::vector<double> &y) {

@@ -107,6 +107,13 @@ const MAX_TESTS: u64 = 4_000_000;
 /// cost them 0.3–0.5 s for nothing.
 const MAX_CHARTS: usize = 150;
 
+/// Largest total of the charts' bounding boxes in pixels (before padding) that is rasterized:
+/// the footprint is at most `FOOTPRINT_PIXELS` of area, so only charts far thinner than their
+/// extent (slivers of existing layouts given to `atlas::repack`, never validated flattenings
+/// in practice) exceed it; the skyline of rectangles packs those instead of a bitmap that could
+/// take gigabytes.
+const MAX_BOX_PIXELS: f64 = 64.0 * FOOTPRINT_PIXELS;
+
 impl Canvas {
     fn new(width: usize) -> Self {
         Canvas { width, words: width.div_ceil(64) + 1, rows: Vec::new(), free: Vec::new(), tests: Default::default() }
@@ -341,6 +348,10 @@ pub fn pack_raster(
     let triangle_count = triangles.iter().map(|t| t.len()).sum::<usize>() as f64;
     let footprint = (PIXELS_PER_TRIANGLE * triangle_count).clamp(MIN_FOOTPRINT_PIXELS, FOOTPRINT_PIXELS);
     let pixel = (total / footprint).sqrt();
+    let box_pixels: f64 = shapes.iter().map(|s| (s.size[0] / pixel + 2.0) * (s.size[1] / pixel + 2.0)).sum();
+    if !(box_pixels <= MAX_BOX_PIXELS) {
+        return None;
+    }
     let mut order: Vec<usize> = (0..charts.len()).collect();
     order.sort_by(|&a, &b| areas[b].total_cmp(&areas[a]).then(a.cmp(&b)));
     // The margin is in final units and the final scale depends on the layout: re-derive the

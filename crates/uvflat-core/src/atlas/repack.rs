@@ -7,7 +7,9 @@
 //!
 //! Scale: with the surface area of every triangle given, each island is scaled so that its UV
 //! area equals its surface area before packing (one texel density over all islands, as Blender
-//! does with *Scale* on); without, the islands keep their relative sizes.
+//! does with *Scale* on; an island of zero surface area keeps its size); without, the islands
+//! keep their relative sizes. Islands much thinner than their extent (slivers) are packed by
+//! their rectangles only (the raster packer's bitmap budget, `raster_pack::MAX_BOX_PIXELS`).
 //!
 //! Packing never makes islands overlap (the packer keeps them a margin apart), but islands that
 //! overlap each other or themselves in the input are not repaired: each is moved as it is.
@@ -86,6 +88,12 @@ pub fn pack_islands(
             Some(_) if island.surface_area > 0.0 => (island.surface_area / area).sqrt(),
             _ => 1.0,
         };
+        if !scale.is_finite() {
+            return Err(Error::InvalidArgument(format!(
+                "island {i}: its UV area {area:e} is too small for its surface area {:e}",
+                island.surface_area
+            )));
+        }
         for p in &mut points {
             *p = [p[0] * scale, p[1] * scale];
         }
@@ -225,6 +233,17 @@ mod tests {
             pack_islands(&uv, &t, Some(&[0.5, 0.5, 0.5, 0.5]), &RepackOptions { margin: 0.0, rotate: false }).unwrap();
         let (a, b) = (bounds(&r.uv, 0..4), bounds(&r.uv, 4..8));
         assert!(((b[2] - b[0]) / (a[2] - a[0]) - 1.0).abs() < 1e-9, "{a:?} {b:?}");
+    }
+
+    #[test]
+    fn a_sliver_island_at_one_texel_density_is_packed_by_its_rectangle_without_a_huge_bitmap() {
+        // A square and a diagonal sliver of UV area 1e-8 whose surface area is 1: scaled up by
+        // 10⁴ it is a needle ~10⁴ long, far beyond the raster packer's bitmap budget.
+        let uv = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0], [1.0, 1.0], [0.5, 0.5 + 1e-8]];
+        let t = vec![[0, 1, 2], [0, 2, 3], [4, 5, 6]];
+        let r = pack_islands(&uv, &t, Some(&[0.5, 0.5, 1.0]), &RepackOptions { margin: 0.01, rotate: false }).unwrap();
+        assert_eq!(r.islands, 2);
+        assert!(r.uv.iter().flatten().all(|x| x.is_finite() && (-1e-12..=1.0 + 1e-12).contains(x)), "{:?}", r.uv);
     }
 
     #[test]

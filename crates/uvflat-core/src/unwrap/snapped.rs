@@ -7,7 +7,11 @@
 //! takes for each corner a UV vertex of its solve vertex, in one island where its vertices share
 //! one (so a triangle whose corners were welded gets a UV triangle of zero area, like its 3D
 //! shape). Left-out triangles are outside the solve and the verification: the report's flip
-//! and overlap counts are those of the kept triangles, and it counts the left-out ones.
+//! and overlap counts are those of the kept triangles, and it counts the left-out ones (the
+//! islands' triangle counts are those of the solve too).
+//!
+//! A group of welded input vertices is named by its lowest vertex in the result's `original`
+//! (the input vertex of every UV vertex) and `seams` (vertex pairs).
 
 use super::{unwrap_with_progress, UnwrapOptions, Unwrapped};
 use crate::error::{Error, Result};
@@ -71,15 +75,20 @@ fn over_the_input(result: &mut Unwrapped, tris: &[[u32; 3]], repair: &SnappedRep
     for (v, &s) in repair.vertex.iter().enumerate().rev() {
         first[s as usize] = v as u32;
     }
-    // A UV vertex of every (solve vertex, island), and one of every solve vertex.
+    // A UV vertex of every (solve vertex, island), one of every solve vertex, and the islands of
+    // every solve vertex.
     let mut in_island: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut islands_of: Vec<Vec<u32>> = vec![Vec::new(); repair.vertex_count];
     let mut any = vec![u32::MAX; repair.vertex_count];
     let mut chart_of_uv = vec![0u32; atlas.uv.len()];
     for (corners, &chart) in atlas.triangles.iter().zip(&atlas.chart_of_triangle) {
         for &uv in corners {
             chart_of_uv[uv as usize] = chart;
             let s = atlas.original[uv as usize];
-            in_island.entry((s, chart)).or_insert(uv);
+            if let std::collections::hash_map::Entry::Vacant(e) = in_island.entry((s, chart)) {
+                e.insert(uv);
+                islands_of[s as usize].push(chart);
+            }
             if any[s as usize] == u32::MAX {
                 any[s as usize] = uv;
             }
@@ -95,7 +104,12 @@ fn over_the_input(result: &mut Unwrapped, tris: &[[u32; 3]], repair: &SnappedRep
             continue;
         }
         let s = t.map(|v| repair.vertex[v as usize]);
-        let chart = chart_of_uv[any[s[0] as usize] as usize];
+        // An island holding all three corners where there is one (a seam vertex has several).
+        let chart = islands_of[s[0] as usize]
+            .iter()
+            .copied()
+            .find(|&c| in_island.contains_key(&(s[1], c)) && in_island.contains_key(&(s[2], c)))
+            .unwrap_or(chart_of_uv[any[s[0] as usize] as usize]);
         triangles.push(s.map(|w| *in_island.get(&(w, chart)).unwrap_or(&any[w as usize])));
         charts.push(chart);
     }
