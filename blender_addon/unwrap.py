@@ -531,24 +531,16 @@ class UnwrapRun:
         one texel density, UV area = 3D area; rotation allowed unless an image's aspect ratio
         squeezes them, where a rotation would shear them in the image), all islands in one call."""
         free = [job for job in self.solved if len(job.pin_vertices) == 0]
-        if not free:
-            return
         # (An island the repair could not unfold may be degenerate or not finite: left as it is;
         # measured on the stacked islands, one numpy pass for thousands of islands.)
-        counts = np.array([len(job.uv) for job in free])
-        tris, owner = isl.stacked_triangles([job.island.triangles for job in free], counts)
-        uv = np.concatenate([job.uv for job in free])
-        vertex_owner = np.repeat(np.arange(len(free)), counts)
+        counts, tris, owner, uv, vertex_owner = _stacked(free)
         finite = np.bincount(vertex_owner, weights=~np.isfinite(uv).all(axis=1), minlength=len(free)) == 0
         area = np.bincount(owner, weights=np.nan_to_num(isl.triangle_areas(uv, tris)), minlength=len(free))
         if not (finite & (area > 0)).all():
             free = [job for job, ok in zip(free, finite & (area > 0)) if ok]
-            if not free:
-                return
-            counts = np.array([len(job.uv) for job in free])
-            tris, owner = isl.stacked_triangles([job.island.triangles for job in free], counts)
-            uv = np.concatenate([job.uv for job in free])
-            vertex_owner = np.repeat(np.arange(len(free)), counts)
+            counts, tris, owner, uv, vertex_owner = _stacked(free)
+        if not free:
+            return
         starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
         positions = np.concatenate([job.island.positions for job in free])
         # from_square per island: an image wider than high squeezes u, a taller one v; the
@@ -672,6 +664,16 @@ class UnwrapRun:
             ],
             "island_faces": [(j.obj_index, j.island.polys.copy()) for j in solved],
         }
+
+
+def _stacked(jobs: List[_Job]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The jobs' islands stacked: UV count per job, triangles over the stacked UVs and the job
+    of each, the stacked UVs and the job of each UV."""
+    counts = np.array([len(job.uv) for job in jobs], dtype=np.int64)
+    if not jobs:
+        return counts, np.zeros((0, 3), np.int64), np.zeros(0, np.int64), np.zeros((0, 2)), np.zeros(0, np.int64)
+    tris, owner = isl.stacked_triangles([job.island.triangles for job in jobs], counts)
+    return counts, tris, owner, np.concatenate([job.uv for job in jobs]), np.repeat(np.arange(len(jobs)), counts)
 
 
 def is_folded(uvflat: Any, uv: np.ndarray, triangles: np.ndarray) -> bool:
