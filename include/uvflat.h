@@ -3825,7 +3825,8 @@ void uvf_unwrap_options_default(struct UvfUnwrapOptions *options);
  * `uvf_mesh_info` and the methods refuse, are accepted here: in each, the ends of an edge
  * shorter than 1e-6 of its longest are welded for the solve, and the triangles still of zero
  * area are left out of the solve and the verification, each getting the UVs of its vertices
- * (`uvf_snapped_repair`; the report counts both).
+ * (`uvf_snapped_repair`; the report counts both). A group of welded vertices is then named by
+ * its lowest input vertex in the original vertices and the seams.
  *
  * The result is verified with an exact checker independent of the method: no flipped or
  * degenerate UV triangle, no overlap within or between islands, every UV finite and in
